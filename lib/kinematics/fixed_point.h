@@ -1,0 +1,206 @@
+// Fixed-point number formats for the ATmega2560 (and bit-identical on the host).
+//
+// Design (why these formats): the AVR has an 8x8 hardware multiplier and no barrel
+// shifter. A 16x16->32 product is one libgcc helper on MUL (~20 cycles); a shift by a
+// multiple of 8 is a register move; any other shift of a 32-bit value is a loop. So:
+//   Unit     int16  Q15   [-1, 1)       sines, cosines, rotation-matrix entries
+//   Length   uint16 UQ16  [0, 1) metres link-length constants (every link is < 1 m)
+//   Real     int32  Q23   +-256         positions (m), velocities (m/s, rad/s), rates
+// Unit*Length is one 16x16 product whose Q31 result is shifted by 8 into Q23.
+// Unit*Real is a 32x16 product built from two 16x16 products (no int64 anywhere).
+// Unit*Unit is one 16x16 product, doubled and rounded into Q15.
+// Sines and cosines are saturated to +-32767, so Unit*Unit never meets -1 * -1.
+#pragma once
+
+#include <stdint.h>
+
+#if !defined(__BYTE_ORDER__) || __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
+#error "fixed_point.h splits 32-bit words through a union and assumes little-endian"
+#endif
+
+namespace wmra {
+namespace fx {
+
+constexpr int kUnitFracBits = 15;
+constexpr int kRealFracBits = 23;
+constexpr int32_t kUnitOne = 32767;  // the largest Unit; 1.0 itself is not representable
+
+// --- raw 16x16 -> 32 products. On the AVR they are written out with MUL/MULS/MULSU
+// --- (Atmel AVR201): left to itself avr-gcc folds the operands after inlining and falls
+// --- back to 16x32 or 32x32 library calls that cost 3-5 times as much.
+#if defined(__AVR__)
+inline int32_t mul_ss(int16_t a, int16_t b) {
+  int32_t r;
+  uint8_t zero;
+  asm("clr   %[z]\n\t"
+      "muls  %B[a], %B[b]\n\t"
+      "movw  %C[r], r0\n\t"
+      "mul   %A[a], %A[b]\n\t"
+      "movw  %A[r], r0\n\t"
+      "mulsu %B[a], %A[b]\n\t"
+      "sbc   %D[r], %[z]\n\t"
+      "add   %B[r], r0\n\t"
+      "adc   %C[r], r1\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mulsu %B[b], %A[a]\n\t"
+      "sbc   %D[r], %[z]\n\t"
+      "add   %B[r], r0\n\t"
+      "adc   %C[r], r1\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "clr   __zero_reg__"
+      : [r] "=&r"(r), [z] "=&r"(zero)
+      : [a] "a"(a), [b] "a"(b));
+  return r;
+}
+inline int32_t mul_us(uint16_t a, int16_t b) {
+  int32_t r;
+  uint8_t zero;
+  asm("clr   %[z]\n\t"
+      "mulsu %B[b], %B[a]\n\t"
+      "movw  %C[r], r0\n\t"
+      "mul   %A[a], %A[b]\n\t"
+      "movw  %A[r], r0\n\t"
+      "mulsu %B[b], %A[a]\n\t"
+      "sbc   %D[r], %[z]\n\t"
+      "add   %B[r], r0\n\t"
+      "adc   %C[r], r1\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mul   %B[a], %A[b]\n\t"
+      "add   %B[r], r0\n\t"
+      "adc   %C[r], r1\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "clr   __zero_reg__"
+      : [r] "=&r"(r), [z] "=&r"(zero)
+      : [a] "a"(a), [b] "a"(b));
+  return r;
+}
+inline uint32_t mul_uu(uint16_t a, uint16_t b) {
+  uint32_t r;
+  uint8_t zero;
+  asm("clr   %[z]\n\t"
+      "mul   %A[a], %A[b]\n\t"
+      "movw  %A[r], r0\n\t"
+      "mul   %B[a], %B[b]\n\t"
+      "movw  %C[r], r0\n\t"
+      "mul   %B[a], %A[b]\n\t"
+      "add   %B[r], r0\n\t"
+      "adc   %C[r], r1\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mul   %A[a], %B[b]\n\t"
+      "add   %B[r], r0\n\t"
+      "adc   %C[r], r1\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "clr   __zero_reg__"
+      : [r] "=&r"(r), [z] "=&r"(zero)
+      : [a] "r"(a), [b] "r"(b));
+  return r;
+}
+#else
+inline int32_t mul_ss(int16_t a, int16_t b) { return (int32_t)a * b; }
+inline int32_t mul_us(uint16_t a, int16_t b) { return (int32_t)a * b; }
+inline uint32_t mul_uu(uint16_t a, uint16_t b) { return (uint32_t)a * b; }
+#endif
+
+union Word32 {
+  int32_t s;
+  uint32_t u;
+  struct {
+    uint16_t lo;
+    int16_t hi;
+  } h;
+};
+
+// the high half of a 32-bit word: x >> 16 as a register move
+inline uint16_t hi16(uint32_t x) {
+  Word32 w;
+  w.u = x;
+  return (uint16_t)w.h.hi;
+}
+
+// floor(x * c / 2^16), exact.
+inline int32_t mul_hi_32x16(int32_t x, int16_t c) {
+  Word32 w;
+  w.s = x;
+  Word32 lo;
+  lo.s = mul_us(w.h.lo, c);
+  // lo.s >> 16 as a byte move: the sign-extended high half of the low product
+  return mul_ss(w.h.hi, c) + (int32_t)lo.h.hi;
+}
+
+// constexpr conversions from real numbers (used for constants and on the host)
+constexpr int32_t round_to_int32(double x) { return (int32_t)(x < 0 ? x - 0.5 : x + 0.5); }
+
+struct Unit {
+  int16_t raw;
+  static constexpr Unit from_raw(int16_t r) { return Unit{r}; }
+};
+struct Length {
+  uint16_t raw;
+};
+struct Real {
+  int32_t raw;
+  static constexpr Real from_raw(int32_t r) { return Real{r}; }
+};
+
+constexpr Unit unit(double x) {
+  return Unit{(int16_t)(x >= 1.0 ? kUnitOne : x <= -1.0 ? -kUnitOne : round_to_int32(x * 32768.0))};
+}
+constexpr Length length(double metres) { return Length{(uint16_t)round_to_int32(metres * 65536.0)}; }
+constexpr Real real(double x) { return Real{round_to_int32(x * 8388608.0)}; }
+
+constexpr double to_double(Unit u) { return u.raw / 32768.0; }
+constexpr double to_double(Length l) { return l.raw / 65536.0; }
+constexpr double to_double(Real r) { return r.raw / 8388608.0; }
+
+// --- Unit arithmetic
+inline Unit operator-(Unit a) { return Unit{(int16_t)-a.raw}; }
+// sums of rotation terms are bounded by 1 in exact arithmetic; rounding may step past it
+inline Unit saturate_unit(int32_t raw) {
+  return Unit{(int16_t)(raw > kUnitOne ? kUnitOne : raw < -kUnitOne ? -kUnitOne : raw)};
+}
+inline Unit operator+(Unit a, Unit b) { return saturate_unit((int32_t)a.raw + b.raw); }
+inline Unit operator-(Unit a, Unit b) { return saturate_unit((int32_t)a.raw - b.raw); }
+inline Unit operator*(Unit a, Unit b) {
+  Word32 p;
+  p.s = mul_ss(a.raw, b.raw);  // Q30, |p| < 2^30 since |a|,|b| <= 32767
+  p.s += p.s + 0x8000;         // Q31, rounded at bit 16
+  return Unit{p.h.hi};
+}
+
+// --- Real arithmetic
+inline Real operator+(Real a, Real b) { return Real{a.raw + b.raw}; }
+inline Real operator-(Real a, Real b) { return Real{a.raw - b.raw}; }
+inline Real operator-(Real a) { return Real{-a.raw}; }
+inline Real& operator+=(Real& a, Real b) { a.raw += b.raw; return a; }
+inline Real& operator-=(Real& a, Real b) { a.raw -= b.raw; return a; }
+inline bool operator<(Real a, Real b) { return a.raw < b.raw; }
+
+// Unit * Real: Q15 * Q23 = Q38; >>16 gives Q22, one doubling gives Q23 (the lost bit is
+// 1.2e-7 of a metre or a rad/s).
+inline Real operator*(Unit u, Real r) {
+  const int32_t q22 = mul_hi_32x16(r.raw, u.raw);
+  return Real{q22 + q22};
+}
+inline Real operator*(Real r, Unit u) { return u * r; }
+
+// Unit * Length: Q15 * UQ16 = Q31, >>8 gives Q23.
+inline Real operator*(Unit u, Length l) {
+  Word32 p;
+  p.s = mul_us(l.raw, u.raw);
+  return Real{p.s >> 8};
+}
+inline Real operator*(Length l, Unit u) { return u * l; }
+
+inline Real to_real(Length l) { return Real{(int32_t)l.raw << 7}; }
+inline Real to_real(Unit u) { return Real{(int32_t)u.raw << 8}; }
+inline Real operator+(Real a, Length b) { return a + to_real(b); }
+inline Real operator+(Length a, Real b) { return to_real(a) + b; }
+
+// Real -> Unit for values known to lie in (-1, 1) (positions of the wrist within 1 m,
+// normalised ratios); saturates instead of wrapping.
+inline Unit to_unit(Real r) {
+  return saturate_unit((r.raw + 0x80) >> 8);
+}
+
+}  // namespace fx
+}  // namespace wmra

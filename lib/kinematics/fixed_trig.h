@@ -1,0 +1,150 @@
+// Trigonometry on binary angles: sin, cos, atan2 and sqrt in integer arithmetic.
+//
+// Angle: int32 with 2^18 counts per turn, so each quadrant is exactly the low 16 bits and
+// the quadrant number is bits 16-17; wrap-around is free and +-8192 turns are representable.
+// One count is 2.4e-5 rad. sin and cos interpolate a quarter-wave table; atan on [0, 1] is
+// an odd degree-9 polynomial (fit error 1.2e-5 rad) whose products are 16x16 multiplies
+// with a shift by 16.
+#pragma once
+
+#include "kinematics/flash.h"
+#include "kinematics/reciprocal.h"
+
+namespace wmra {
+namespace fx {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Angle {
+  int32_t raw;
+};
+constexpr int32_t kAngleTurn = 262144;  // 2^18 counts per turn
+constexpr Angle angle(double rad) { return Angle{round_to_int32(rad * (kAngleTurn / (2.0 * kPi)))}; }
+constexpr double to_radians(Angle a) { return a.raw * (2.0 * kPi / kAngleTurn); }
+inline Angle operator+(Angle a, Angle b) { return Angle{a.raw + b.raw}; }
+inline Angle operator-(Angle a, Angle b) { return Angle{a.raw - b.raw}; }
+inline Angle operator-(Angle a) { return Angle{-a.raw}; }
+
+struct SinCos {
+  Unit s;
+  Unit c;
+};
+
+// Quarter-wave table sin(pi/2 i/256), i = 0..257, in Q15 (saturated at 32767), built at
+// compile time and kept in flash. Linear interpolation between entries is within 4.7e-6
+// of the sine; neighbours differ by at most 201, so the interpolation is one 8x8 MUL.
+constexpr double taylor_sin(double x) {
+  double term = x;
+  double sum = x;
+  for (int n = 1; n < 12; ++n) {
+    term *= -x * x / ((2 * n) * (2 * n + 1));
+    sum += term;
+  }
+  return sum;
+}
+struct SinTable {
+  int16_t v[258];
+  constexpr SinTable() : v() {
+    for (int i = 0; i < 258; ++i) {
+      const int32_t q = round_to_int32(taylor_sin(kPi / 2 * (i < 256 ? i : 256) / 256.0) * 32768.0);
+      v[i] = (int16_t)(q > kUnitOne ? kUnitOne : q);
+    }
+  }
+};
+
+inline const int16_t* sin_table() {
+  static const SinTable table WMRA_FLASH = SinTable();
+  return table.v;
+}
+
+// sin(pi/2 * x / 2^16) for x in [0, 2^16], Q15.
+inline int16_t sin_quadrant(uint32_t x) {
+  const uint16_t i = (uint16_t)(x >> 8);
+  const uint8_t f = (uint8_t)x;
+  const int16_t* t = sin_table() + i;
+  const int16_t lo = flash_read_i16(t);
+  const uint8_t step = (uint8_t)(flash_read_i16(t + 1) - lo);
+  return (int16_t)(lo + (((uint16_t)step * f + 128u) >> 8));
+}
+
+inline SinCos sincos(Angle a) {
+  const uint16_t x = (uint16_t)a.raw;
+  const int16_t s0 = sin_quadrant(x);
+  const int16_t c0 = sin_quadrant(65536u - x);
+  switch ((uint8_t)(a.raw >> 16) & 3u) {
+    case 0: return SinCos{Unit{s0}, Unit{c0}};
+    case 1: return SinCos{Unit{c0}, Unit{(int16_t)-s0}};
+    case 2: return SinCos{Unit{(int16_t)-s0}, Unit{(int16_t)-c0}};
+    default: return SinCos{Unit{(int16_t)-c0}, Unit{s0}};
+  }
+}
+
+inline Unit sin(Angle a) {
+  const uint16_t x = (uint16_t)a.raw;
+  switch ((uint8_t)(a.raw >> 16) & 3u) {
+    case 0: return Unit{sin_quadrant(x)};
+    case 1: return Unit{sin_quadrant(65536u - x)};
+    case 2: return Unit{(int16_t)-sin_quadrant(x)};
+    default: return Unit{(int16_t)-sin_quadrant(65536u - x)};
+  }
+}
+
+// atan(t) / (pi/4) * 2^15 for t = ratio / 2^16 in [0, 1]: an angle in [0, 2^15] counts.
+inline uint16_t atan_octant(uint16_t ratio, bool one) {
+  if (one) return 32768u;
+  const uint16_t u = (uint16_t)(mul_uu(ratio, ratio) >> 16);  // t^2, UQ16
+  // atan(t)/(pi/4) = t (k1 - u (k3 - u (k5 - u (k7 - u k9)))), coefficients in UQ16/UQ1.15
+  uint16_t p = 1747;                                        // k9 = 0.0266512
+  p = (uint16_t)(7127u - (mul_uu(u, p) >> 16));             // k7 = 0.1087452
+  p = (uint16_t)(15054u - (mul_uu(u, p) >> 16));            // k5 = 0.2297086
+  p = (uint16_t)(27570u - (mul_uu(u, p) >> 16));            // k3 = 0.4206854
+  const uint16_t r = (uint16_t)(41716u - (hi16(mul_uu(u, p)) >> 1));  // k1 = 1.2730852, UQ1.15
+  return (uint16_t)((mul_uu(ratio, r) + 0x8000u) >> 16);    // turns/8 in Q15
+}
+
+// atan2(y, x) as an Angle in (-pi, pi]; atan2(0, 0) = 0. Inputs are any int32 in the same unit.
+inline Angle atan2(int32_t y, int32_t x) {
+  if (x == 0 && y == 0) return Angle{0};
+  uint32_t ax = x < 0 ? 0u - (uint32_t)x : (uint32_t)x;
+  uint32_t ay = y < 0 ? 0u - (uint32_t)y : (uint32_t)y;
+  const bool swap = ay > ax;
+  uint32_t big = swap ? ay : ax;
+  uint32_t small = swap ? ax : ay;
+  // bring big into [2^15, 2^16) with small scaled alike, then ratio = small/big in UQ16
+  while (big >= 65536u) {
+    big >>= 1;
+    small >>= 1;
+  }
+  while (big < 32768u) {
+    big <<= 1;
+    small <<= 1;
+  }
+  const uint16_t inv = half_reciprocal_uq16((uint16_t)big);  // 2^31 / big
+  // ratio = small / big = small * (2^31 / big) / 2^31 -> UQ16 = small * inv / 2^15
+  const uint32_t ratio_q31 = mul_uu((uint16_t)small, inv) + 0x4000u;
+  const bool one = ratio_q31 >= 0x80000000u;
+  int32_t octant = atan_octant(one ? 0 : hi16(ratio_q31 << 1), one);  // [0, 2^15] = [0, pi/4]
+  int32_t a = swap ? 65536 - octant : octant;                         // [0, pi/2]
+  if (x < 0) a = 131072 - a;                                          // [0, pi]
+  return Angle{y < 0 ? -a : a};
+}
+
+// floor(sqrt(v)) for a 32-bit unsigned v (bitwise, 16 rounds).
+inline uint16_t isqrt32(uint32_t v) {
+  uint32_t root = 0;
+  uint32_t bit = 1ul << 30;
+  while (bit > v) bit >>= 2;
+  while (bit != 0) {
+    if (v >= root + bit) {
+      v -= root + bit;
+      root = (root >> 1) + bit;
+    } else {
+      root >>= 1;
+    }
+    bit >>= 2;
+  }
+  return (uint16_t)root;
+}
+
+}  // namespace fx
+}  // namespace wmra

@@ -1,0 +1,142 @@
+// Closed-form inverse Jacobian of the seed-2 arm: joint velocities from the velocity of the
+// frame-6 origin and the angular velocity of the hand, both in the base frame.
+//
+// Derivation (independent of the thesis's Appendix IV, whose column 5 has the wrong sign).
+// Express the twist in the frame turned by q1 about the base axis (x' radial, y' tangential).
+// There the joint axes are z1 = (0,0,1), z2 = z3 = z4 = (0,-1,0), z5 = (s234, 0, -c234) and
+// z6 = (c234 c5, -s5, s234 c5), and the joint-5 origin O5 = (R5, 0, d1 + s2 a2 + s23 a3 + s234 a4).
+//   1. O5 lies on the axes of joints 5 and 6, so its velocity v5 = v - d6 (w x z6) comes from
+//      joints 1-4 alone: v5.y = R5 qd1, which gives qd1 = v5.y / R5.
+//   2. The angular velocity less joint 1, w~ = w - qd1 z1, is sigma (0,-1,0) + qd5 z5 + qd6 z6 with
+//      sigma = qd2 + qd3 + qd4. z5 and z6 are orthogonal, which gives
+//      qd6 = (w~x c234 + w~z s234) / c5,  qd5 = w~x s234 - w~z c234,  sigma = -w~y - qd6 s5.
+//   3. The in-plane velocity of O5 is a planar 3R arm with known sigma:
+//      bx = -v5.x - sigma s234 a4 = qd2 s2 a2 + (qd2+qd3) s23 a3
+//      bz =  v5.z - sigma c234 a4 = qd2 c2 a2 + (qd2+qd3) c23 a3
+//      qd2 = (bz s23 - bx c23) / (a2 s3),  qd2 + qd3 = (bx c2 - bz s2) / (a3 s3).
+// The pivots multiply to the determinant: det J = -c5 s3 a2 a3 R5. Every entry of
+// adj(J)/det(J) has a denominator made of these three factors only, so the three damped
+// reciprocals below are the whole of the division work (the thesis needs 126 products for
+// the same map). Each reciprocal is damped inside its band (arm_model.h), which keeps joint
+// velocities bounded and continuous through a singularity.
+#pragma once
+
+#include "kinematics/forward_kinematics.h"
+
+namespace wmra {
+namespace kin {
+
+enum class SingularStatus : uint8_t { ok, near_singular, singular };
+
+inline const char* to_string(SingularStatus s) {
+  return s == SingularStatus::ok ? "ok" : s == SingularStatus::near_singular ? "near_singular" : "singular";
+}
+
+template <class N>
+struct Twist {
+  Vec3<typename N::Real> v_m_s;    // linear velocity of the frame-6 origin, base frame
+  Vec3<typename N::Real> w_rad_s;  // angular velocity, base frame
+};
+
+template <class N>
+struct SingularFactors {
+  typename N::Unit c5;  // cos q5: wrist
+  typename N::Unit s3;  // sin q3: elbow stretched or folded
+  typename N::Unit r5;  // R5 in metres: joint-5 origin on the base axis
+};
+
+template <class N>
+struct JacobianInverse {
+  typename N::Real qd_rad_s[arm::kJoints];
+  typename N::Real det;  // det J in m^3 (exact factors, not damped)
+  SingularFactors<N> factors;
+  SingularStatus status;
+};
+
+template <class N>
+SingularFactors<N> singular_factors(const ArmTrig<N>& t) {
+  using K = ArmConstants<N>;
+  const auto r5 = K::a1 + t.c2 * K::a2 + t.c23 * K::a3 + t.c234 * K::a4;
+  return SingularFactors<N>{t.c5, t.s3, N::to_unit(r5)};
+}
+
+template <class N>
+SingularStatus singular_status(const SingularFactors<N>& f) {
+  static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);
+  static constexpr typename N::Band damp_s3 = N::band(arm::kSingularBands.damp_s3);
+  static constexpr typename N::Band damp_r5 = N::band(arm::kSingularBands.damp_r5_m);
+  static constexpr typename N::Band slow_c5 = N::band(arm::kSingularBands.slow_c5);
+  static constexpr typename N::Band slow_s3 = N::band(arm::kSingularBands.slow_s3);
+  static constexpr typename N::Band slow_r5 = N::band(arm::kSingularBands.slow_r5_m);
+  if (N::inside(f.c5, damp_c5) || N::inside(f.s3, damp_s3) || N::inside(f.r5, damp_r5)) {
+    return SingularStatus::singular;
+  }
+  if (N::inside(f.c5, slow_c5) || N::inside(f.s3, slow_s3) || N::inside(f.r5, slow_r5)) {
+    return SingularStatus::near_singular;
+  }
+  return SingularStatus::ok;
+}
+
+template <class N>
+JacobianInverse<N> inverse_jacobian(const ArmTrig<N>& t, const Twist<N>& twist) {
+  using K = ArmConstants<N>;
+  static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);
+  static constexpr typename N::Band damp_s3 = N::band(arm::kSingularBands.damp_s3);
+  static constexpr typename N::Band damp_r5 = N::band(arm::kSingularBands.damp_r5_m);
+  static constexpr typename N::Unit d6 = N::unit(arm::d6_m);
+  static constexpr typename N::Unit a4 = N::unit(arm::a4_m);
+  static constexpr typename N::Unit a2a3 = N::unit(arm::a2_m * arm::a3_m);
+  static constexpr typename N::Recip inv_a2 = N::recip_constant(arm::a2_m);
+  static constexpr typename N::Recip inv_a3 = N::recip_constant(arm::a3_m);
+
+  JacobianInverse<N> out;
+  out.factors = singular_factors<N>(t);
+  out.status = singular_status<N>(out.factors);
+  out.det = -(((t.c5 * t.s3) * a2a3) * N::to_real(out.factors.r5));
+
+  // the twist in the frame turned by q1
+  const auto& v = twist.v_m_s;
+  const auto& w = twist.w_rad_s;
+  const auto vx = t.c1 * v.x + t.s1 * v.y;
+  const auto vy = t.c1 * v.y - t.s1 * v.x;
+  const auto wx = t.c1 * w.x + t.s1 * w.y;
+  const auto wy = t.c1 * w.y - t.s1 * w.x;
+
+  // 1. joint-5 origin velocity v5 = v - w x (d6 z6), with d6 z6 = d6 (c234 c5, -s5, s234 c5)
+  const auto zx = (t.c234 * t.c5) * d6;
+  const auto zy = -(t.s5 * d6);
+  const auto zz = (t.s234 * t.c5) * d6;
+  const auto v5x = vx - (wy * zz - w.z * zy);
+  const auto v5y = vy - (w.z * zx - wx * zz);
+  const auto v5z = v.z - (wx * zy - wy * zx);
+  const auto qd1 = v5y * N::damped_reciprocal(out.factors.r5, damp_r5);
+
+  // 2. wrist: angular velocity less joint 1
+  const auto wz = w.z - qd1;
+  const auto qd6 = (wx * t.c234 + wz * t.s234) * N::damped_reciprocal(t.c5, damp_c5);
+  const auto qd5 = wx * t.s234 - wz * t.c234;
+  const auto sigma = -wy - qd6 * t.s5;
+
+  // 3. planar shoulder-elbow-pitch chain
+  const auto bx = -v5x - sigma * (t.s234 * a4);
+  const auto bz = v5z - sigma * (t.c234 * a4);
+  const auto inv_s3 = N::damped_reciprocal(t.s3, damp_s3);
+  const auto qd2 = ((bz * t.s23 - bx * t.c23) * inv_s3) * inv_a2;
+  const auto qd23 = ((bx * t.c2 - bz * t.s2) * inv_s3) * inv_a3;
+
+  out.qd_rad_s[0] = qd1;
+  out.qd_rad_s[1] = qd2;
+  out.qd_rad_s[2] = qd23 - qd2;
+  out.qd_rad_s[3] = sigma - qd23;
+  out.qd_rad_s[4] = qd5;
+  out.qd_rad_s[5] = qd6;
+  return out;
+}
+
+template <class N>
+JacobianInverse<N> inverse_jacobian(const JointAngles<N>& q, const Twist<N>& twist) {
+  return inverse_jacobian<N>(arm_trig<N>(q), twist);
+}
+
+}  // namespace kin
+}  // namespace wmra

@@ -1,0 +1,95 @@
+// Number policies: each kinematics template is written once, as the formula, and
+// instantiated with one of these.
+//   Floating<double>  host reference and the armkin default
+//   Floating<float>   the same closed forms in float on the AVR (benchmark baseline)
+//   Fixed             the firmware's integer instantiation (fixed_point.h, fixed_trig.h)
+// A policy names the kinds of number the formulas use (Angle, Unit for sines and rotation
+// entries, Length for link constants, Real for positions and velocities, Recip for
+// reciprocals) and the few operations that differ between them.
+#pragma once
+
+#include <math.h>
+
+#include "kinematics/fixed_trig.h"
+
+namespace wmra {
+namespace kin {
+
+template <class Unit>
+struct SinCosOf {
+  Unit s;
+  Unit c;
+};
+
+inline float sin_of(float a) { return sinf(a); }
+inline float cos_of(float a) { return cosf(a); }
+inline float atan2_of(float y, float x) { return atan2f(y, x); }
+inline float sqrt_of(float x) { return sqrtf(x); }
+inline double sin_of(double a) { return ::sin(a); }
+inline double cos_of(double a) { return ::cos(a); }
+inline double atan2_of(double y, double x) { return ::atan2(y, x); }
+inline double sqrt_of(double x) { return ::sqrt(x); }
+
+template <class T>
+struct Floating {
+  using Angle = T;
+  using Unit = T;
+  using Length = T;
+  using Real = T;
+  using Recip = T;
+  using SinCos = SinCosOf<T>;
+  struct Band {
+    T eps;
+  };
+
+  static constexpr Unit unit(double x) { return (T)x; }
+  static constexpr Length length(double metres) { return (T)metres; }
+  static constexpr Real real(double x) { return (T)x; }
+  static constexpr Recip recip_constant(double c) { return (T)(1.0 / c); }
+  static constexpr Band band(double eps) { return Band{(T)eps}; }
+  static constexpr Angle angle(double rad) { return (T)rad; }
+  static double to_double(T x) { return (double)x; }
+  static double angle_to_radians(Angle a) { return (double)a; }
+
+  static SinCos sincos(Angle a) { return SinCos{sin_of(a), cos_of(a)}; }
+  static Unit sin(Angle a) { return sin_of(a); }
+  static Unit to_unit(Real r) { return r; }
+  static Real to_real(Unit u) { return u; }
+  static T abs(T x) { return x < 0 ? -x : x; }
+  // 1/x outside the band, x/eps^2 inside it (see fx::damped_reciprocal)
+  static Recip damped_reciprocal(Unit x, Band b) { return abs(x) >= b.eps ? (T)1 / x : x / (b.eps * b.eps); }
+  static bool inside(Unit x, Band b) { return abs(x) < b.eps; }
+};
+
+struct Fixed {
+  using Angle = fx::Angle;
+  using Unit = fx::Unit;
+  using Length = fx::Length;
+  using Real = fx::Real;
+  using Recip = fx::Recip;
+  using SinCos = fx::SinCos;
+  struct Band {
+    Unit eps;
+    Recip inv_eps2;
+  };
+
+  static constexpr Unit unit(double x) { return fx::unit(x); }
+  static constexpr Length length(double metres) { return fx::length(metres); }
+  static constexpr Real real(double x) { return fx::real(x); }
+  static constexpr Recip recip_constant(double c) { return fx::recip_constant(c); }
+  static constexpr Band band(double eps) { return Band{fx::unit(eps), fx::recip_constant(eps * eps)}; }
+  static constexpr Angle angle(double rad) { return fx::angle(rad); }
+  static constexpr double to_double(Unit u) { return fx::to_double(u); }
+  static constexpr double to_double(Real r) { return fx::to_double(r); }
+  static constexpr double angle_to_radians(Angle a) { return fx::to_radians(a); }
+
+  static SinCos sincos(Angle a) { return fx::sincos(a); }
+  static Unit sin(Angle a) { return fx::sin(a); }
+  static Unit to_unit(Real r) { return fx::to_unit(r); }
+  static Real to_real(Unit u) { return fx::to_real(u); }
+  static Recip damped_reciprocal(Unit x, Band b) { return fx::damped_reciprocal(x, b.eps, b.inv_eps2); }
+  static bool inside(Unit x, Band b) { return (x.raw < 0 ? -x.raw : x.raw) < b.eps.raw; }
+};
+
+}  // namespace kin
+}  // namespace wmra

@@ -1,0 +1,17 @@
+// Prints the fixed-point kinematics of the shared test vectors; test/sim_kinematics
+// compares this output with the same code compiled for the host.
+#include "kinematics_vectors.h"
+#include "probe.h"
+
+namespace {
+struct ConsolePut {
+  void operator()(char c) { probe::put(c); }
+};
+}  // namespace
+
+int main() {
+  ConsolePut put;
+  wmra::vectors::emit_all(put);
+  probe::print("END\n");
+  probe::finish();
+}

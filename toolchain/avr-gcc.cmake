@@ -1,0 +1,26 @@
+# CMake toolchain for the ATmega2560 (Arduino Mega) with Debian's gcc-avr 5.4 and avr-libc.
+set(CMAKE_SYSTEM_NAME Generic)
+set(CMAKE_SYSTEM_PROCESSOR avr)
+
+find_program(AVR_GCC avr-gcc REQUIRED)
+find_program(AVR_GXX avr-g++ REQUIRED)
+find_program(AVR_OBJCOPY avr-objcopy REQUIRED)
+find_program(AVR_SIZE avr-size REQUIRED)
+
+set(CMAKE_C_COMPILER ${AVR_GCC})
+set(CMAKE_CXX_COMPILER ${AVR_GXX})
+set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
+
+set(AVR_MCU atmega2560 CACHE STRING "AVR part (-mmcu)")
+set(AVR_F_CPU 16000000UL CACHE STRING "CPU clock in Hz")
+
+# avr-g++ 5.4 knows C++14 at most and ships no C++ standard library.
+set(CMAKE_CXX_FLAGS_INIT "-mmcu=${AVR_MCU} -DF_CPU=${AVR_F_CPU} -std=gnu++14 -fno-exceptions -fno-rtti -fno-threadsafe-statics")
+set(CMAKE_C_FLAGS_INIT "-mmcu=${AVR_MCU} -DF_CPU=${AVR_F_CPU}")
+set(CMAKE_EXE_LINKER_FLAGS_INIT "-mmcu=${AVR_MCU} -Wl,--gc-sections")
+set(CMAKE_CXX_FLAGS_RELEASE_INIT "-O2 -ffunction-sections -fdata-sections")
+set(CMAKE_C_FLAGS_RELEASE_INIT "-O2 -ffunction-sections -fdata-sections")
+
+set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
+set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
+set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
