@@ -23,6 +23,11 @@ enum Region : uint8_t {
   kFkFloat,
   kJinvFloat,
   kJinvCoreFloat,
+  kMulUnitUnit,
+  kMulUnitReal,
+  kMulRealRecip,
+  kReciprocal,
+  kSinCos,
 };
 
 kin::JointAngles<Fixed> q_fixed[kPoses];
@@ -31,6 +36,14 @@ kin::JointAngles<Float> q_float[kPoses];
 kin::Twist<Float> twist_float[kPoses];
 
 volatile int32_t sink_fixed;
+volatile int16_t unit_in = 12345;
+volatile int32_t real_in = 987654321;
+
+__attribute__((noinline)) fx::Unit op_mul_unit_unit(fx::Unit a, fx::Unit b) { return a * b; }
+__attribute__((noinline)) fx::Real op_mul_unit_real(fx::Unit a, fx::Real b) { return a * b; }
+__attribute__((noinline)) fx::Real op_mul_real_recip(fx::Real a, fx::Recip b) { return a * b; }
+__attribute__((noinline)) fx::Recip op_reciprocal(fx::Unit a) { return fx::reciprocal(a); }
+__attribute__((noinline)) fx::SinCos op_sincos(fx::Angle a) { return fx::sincos(a); }
 volatile float sink_float;
 
 __attribute__((noinline)) kin::ArmTrig<Fixed> trig_fixed(const kin::JointAngles<Fixed>& q) {
@@ -89,6 +102,11 @@ int main() {
   probe::name_region(kFkFloat, "fk_float");
   probe::name_region(kJinvFloat, "jinv_float");
   probe::name_region(kJinvCoreFloat, "jinv_core_float");
+  probe::name_region(kMulUnitUnit, "op_unit_x_unit");
+  probe::name_region(kMulUnitReal, "op_unit_x_real");
+  probe::name_region(kMulRealRecip, "op_real_x_recip");
+  probe::name_region(kReciprocal, "op_reciprocal");
+  probe::name_region(kSinCos, "op_sincos");
   make_inputs();
 
   for (int i = 0; i < kPoses; ++i) {
@@ -122,6 +140,26 @@ int main() {
     const auto jcl = jinv_core_float(tl, twist_float[i]);
     probe::stop(kJinvCoreFloat);
     sink_float = pl.p_m.x + jl.qd_rad_s[2] + jcl.qd_rad_s[3];
+  }
+  for (int i = 0; i < kPoses; ++i) {
+    const fx::Unit u{(int16_t)(unit_in + 97 * i)};
+    const fx::Real r{real_in + 7919l * i};
+    probe::start(kMulUnitUnit);
+    const fx::Unit uu = op_mul_unit_unit(u, u);
+    probe::stop(kMulUnitUnit);
+    probe::start(kMulUnitReal);
+    const fx::Real ur = op_mul_unit_real(u, r);
+    probe::stop(kMulUnitReal);
+    probe::start(kReciprocal);
+    const fx::Recip k = op_reciprocal(u);
+    probe::stop(kReciprocal);
+    probe::start(kMulRealRecip);
+    const fx::Real rk = op_mul_real_recip(fx::Real{r.raw >> 4}, k);
+    probe::stop(kMulRealRecip);
+    probe::start(kSinCos);
+    const fx::SinCos sc = op_sincos(q_fixed[i].q[1]);
+    probe::stop(kSinCos);
+    sink_fixed = uu.raw + ur.raw + rk.raw + sc.s.raw;
   }
   probe::print("END\n");
   probe::finish();

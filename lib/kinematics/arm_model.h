@@ -3,39 +3,47 @@
 //
 // Joint variable convention: q5 = 0 is the arm stretched; the DH angle of joint 5 is
 // q5 - pi/2 (seed2-digest, red flag 5). At q = 0 the frame-6 origin is at (1.077, 0, 0.187) m.
+// Numbers are exact ratios (ratio.h) so that the fixed-point constants are the same on the
+// AVR and the host; the *_m and *_rad doubles are for host code.
 #pragma once
+
+#include "kinematics/ratio.h"
 
 namespace wmra {
 namespace arm {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double deg(double d) { return d * kPi / 180.0; }
 
-// link lengths and offsets, metres
-constexpr double d1_m = 0.187;
-constexpr double a1_m = 0.014;
-constexpr double a2_m = 0.350;
-constexpr double a3_m = 0.350;
-constexpr double a4_m = 0.165;
-constexpr double d6_m = 0.198;
+// link lengths and offsets, metres (from millimetres)
+constexpr Ratio d1{187, 1000};
+constexpr Ratio a1{14, 1000};
+constexpr Ratio a2{350, 1000};
+constexpr Ratio a3{350, 1000};
+constexpr Ratio a4{165, 1000};
+constexpr Ratio d6{198, 1000};
+constexpr double d1_m = to_double(d1), a1_m = to_double(a1), a2_m = to_double(a2), a3_m = to_double(a3),
+                 a4_m = to_double(a4), d6_m = to_double(d6);
 
 constexpr int kJoints = 6;
-constexpr double q_min_rad[kJoints] = {deg(-90), deg(-45), deg(-135), deg(-160), deg(-90), deg(-360)};
-constexpr double q_max_rad[kJoints] = {deg(90), deg(135), deg(160), deg(160), deg(90), deg(360)};
+constexpr int16_t q_min_deg[kJoints] = {-90, -45, -135, -160, -90, -360};
+constexpr int16_t q_max_deg[kJoints] = {90, 135, 160, 160, 90, 360};
+constexpr double deg_to_rad(double d) { return d * kPi / 180.0; }
+constexpr double q_min_rad(int joint) { return deg_to_rad(q_min_deg[joint]); }
+constexpr double q_max_rad(int joint) { return deg_to_rad(q_max_deg[joint]); }
 
 // The Jacobian's determinant is -c5 s3 a2 a3 R5 with R5 = a1 + c2 a2 + c23 a3 + c234 a4,
 // the horizontal distance of the joint-5 origin from the base axis. Each factor has a
 // band where the inverse is damped (status singular) and a wider band where the
 // firmware slows down (status near_singular).
 struct SingularBands {
-  double damp_c5;
-  double damp_s3;
-  double damp_r5_m;
-  double slow_c5;
-  double slow_s3;
-  double slow_r5_m;
+  Ratio damp_c5;
+  Ratio damp_s3;
+  Ratio damp_r5_m;
+  Ratio slow_c5;
+  Ratio slow_s3;
+  Ratio slow_r5_m;
 };
-constexpr SingularBands kSingularBands = {0.05, 0.05, 0.05, 0.20, 0.20, 0.15};
+constexpr SingularBands kSingularBands = {{5, 100}, {5, 100}, {5, 100}, {20, 100}, {20, 100}, {15, 100}};
 
 // The wrist reaches at most this far from the base axis, so R5 always fits a Unit.
 constexpr double max_r5_m = a1_m + a2_m + a3_m + a4_m;

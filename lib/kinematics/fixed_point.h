@@ -14,6 +14,8 @@
 
 #include <stdint.h>
 
+#include "kinematics/ratio.h"
+
 #if !defined(__BYTE_ORDER__) || __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
 #error "fixed_point.h splits 32-bit words through a union and assumes little-endian"
 #endif
@@ -117,15 +119,106 @@ inline uint16_t hi16(uint32_t x) {
   return (uint16_t)w.h.hi;
 }
 
-// floor(x * c / 2^16), exact.
+// floor(x * c / 2^16), exact: the top 32 bits of the 48-bit product.
+// On the AVR the eight 8x8 partial products are summed straight into the result bytes;
+// a signed partial product is sign-extended by subtracting MULSU's carry (its sign) from
+// the bytes above it (the AVR201 trick). Byte 0 of the product never carries, so it is
+// not formed.
+#if defined(__AVR__)
 inline int32_t mul_hi_32x16(int32_t x, int16_t c) {
-  Word32 w;
-  w.s = x;
-  Word32 lo;
-  lo.s = mul_us(w.h.lo, c);
-  // lo.s >> 16 as a byte move: the sign-extended high half of the low product
-  return mul_ss(w.h.hi, c) + (int32_t)lo.h.hi;
+  int32_t r;
+  uint8_t t, z;
+  asm("clr   %[z]\n\t"
+      "mul   %A[x], %A[c]\n\t"  // @0
+      "mov   %[t], r1\n\t"
+      "mul   %C[x], %A[c]\n\t"  // @2
+      "movw  %A[r], r0\n\t"
+      "muls  %D[x], %B[c]\n\t"  // @4, signed x signed
+      "movw  %C[r], r0\n\t"
+      "mul   %B[x], %A[c]\n\t"  // @1
+      "add   %[t], r0\n\t"
+      "adc   %A[r], r1\n\t"
+      "adc   %B[r], %[z]\n\t"
+      "adc   %C[r], %[z]\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mulsu %D[x], %A[c]\n\t"  // @3, signed
+      "sbc   %D[r], %[z]\n\t"
+      "add   %B[r], r0\n\t"
+      "adc   %C[r], r1\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mulsu %B[c], %A[x]\n\t"  // @1, signed
+      "sbc   %B[r], %[z]\n\t"
+      "sbc   %C[r], %[z]\n\t"
+      "sbc   %D[r], %[z]\n\t"
+      "add   %[t], r0\n\t"
+      "adc   %A[r], r1\n\t"
+      "adc   %B[r], %[z]\n\t"
+      "adc   %C[r], %[z]\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mulsu %B[c], %B[x]\n\t"  // @2, signed
+      "sbc   %C[r], %[z]\n\t"
+      "sbc   %D[r], %[z]\n\t"
+      "add   %A[r], r0\n\t"
+      "adc   %B[r], r1\n\t"
+      "adc   %C[r], %[z]\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mulsu %B[c], %C[x]\n\t"  // @3, signed
+      "sbc   %D[r], %[z]\n\t"
+      "add   %B[r], r0\n\t"
+      "adc   %C[r], r1\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "clr   __zero_reg__"
+      : [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z)
+      : [x] "a"(x), [c] "a"(c));
+  return r;
 }
+
+// floor(x * c / 2^16) for an unsigned c, exact.
+inline int32_t mul_hi_32xu16(int32_t x, uint16_t c) {
+  int32_t r;
+  uint8_t t, z;
+  asm("clr   %[z]\n\t"
+      "mul   %A[x], %A[c]\n\t"  // @0
+      "mov   %[t], r1\n\t"
+      "mul   %C[x], %A[c]\n\t"  // @2
+      "movw  %A[r], r0\n\t"
+      "mulsu %D[x], %B[c]\n\t"  // @4, signed x unsigned
+      "movw  %C[r], r0\n\t"
+      "mul   %B[x], %A[c]\n\t"  // @1
+      "add   %[t], r0\n\t"
+      "adc   %A[r], r1\n\t"
+      "adc   %B[r], %[z]\n\t"
+      "adc   %C[r], %[z]\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mul   %A[x], %B[c]\n\t"  // @1
+      "add   %[t], r0\n\t"
+      "adc   %A[r], r1\n\t"
+      "adc   %B[r], %[z]\n\t"
+      "adc   %C[r], %[z]\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mulsu %D[x], %A[c]\n\t"  // @3, signed
+      "sbc   %D[r], %[z]\n\t"
+      "add   %B[r], r0\n\t"
+      "adc   %C[r], r1\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mul   %B[x], %B[c]\n\t"  // @2
+      "add   %A[r], r0\n\t"
+      "adc   %B[r], r1\n\t"
+      "adc   %C[r], %[z]\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "mul   %C[x], %B[c]\n\t"  // @3
+      "add   %B[r], r0\n\t"
+      "adc   %C[r], r1\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "clr   __zero_reg__"
+      : [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z)
+      : [x] "a"(x), [c] "a"(c));
+  return r;
+}
+#else
+inline int32_t mul_hi_32x16(int32_t x, int16_t c) { return (int32_t)(((int64_t)x * c) >> 16); }
+inline int32_t mul_hi_32xu16(int32_t x, uint16_t c) { return (int32_t)(((int64_t)x * c) >> 16); }
+#endif
 
 // constexpr conversions from real numbers (used for constants and on the host)
 constexpr int32_t round_to_int32(double x) { return (int32_t)(x < 0 ? x - 0.5 : x + 0.5); }
@@ -142,11 +235,17 @@ struct Real {
   static constexpr Real from_raw(int32_t r) { return Real{r}; }
 };
 
-constexpr Unit unit(double x) {
-  return Unit{(int16_t)(x >= 1.0 ? kUnitOne : x <= -1.0 ? -kUnitOne : round_to_int32(x * 32768.0))};
+constexpr int16_t saturate_unit_raw(int64_t raw) {
+  return (int16_t)(raw > kUnitOne ? kUnitOne : raw < -kUnitOne ? -kUnitOne : raw);
 }
-constexpr Length length(double metres) { return Length{(uint16_t)round_to_int32(metres * 65536.0)}; }
-constexpr Real real(double x) { return Real{round_to_int32(x * 8388608.0)}; }
+// exact conversions of rational constants (identical on the AVR and the host)
+constexpr Unit unit(Ratio r) { return Unit{saturate_unit_raw(div_round(r.num * 32768, r.den))}; }
+constexpr Length length(Ratio metres) { return Length{(uint16_t)div_round(metres.num * 65536, metres.den)}; }
+constexpr Real real(Ratio r) { return Real{(int32_t)div_round(r.num * 8388608, r.den)}; }
+
+// conversions of measured values at run time on the host (tools and tests)
+inline Unit unit(double x) { return Unit{saturate_unit_raw(round_to_int32(x * 32768.0))}; }
+inline Real real(double x) { return Real{round_to_int32(x * 8388608.0)}; }
 
 constexpr double to_double(Unit u) { return u.raw / 32768.0; }
 constexpr double to_double(Length l) { return l.raw / 65536.0; }

@@ -52,12 +52,12 @@ struct Pose {
 
 template <class N>
 struct ArmConstants {
-  static constexpr typename N::Length a1 = N::length(arm::a1_m);
-  static constexpr typename N::Length a2 = N::length(arm::a2_m);
-  static constexpr typename N::Length a3 = N::length(arm::a3_m);
-  static constexpr typename N::Length a4 = N::length(arm::a4_m);
-  static constexpr typename N::Length d1 = N::length(arm::d1_m);
-  static constexpr typename N::Length d6 = N::length(arm::d6_m);
+  static constexpr typename N::Length a1 = N::length(arm::a1);
+  static constexpr typename N::Length a2 = N::length(arm::a2);
+  static constexpr typename N::Length a3 = N::length(arm::a3);
+  static constexpr typename N::Length a4 = N::length(arm::a4);
+  static constexpr typename N::Length d1 = N::length(arm::d1);
+  static constexpr typename N::Length d6 = N::length(arm::d6);
 };
 template <class N> constexpr typename N::Length ArmConstants<N>::a1;
 template <class N> constexpr typename N::Length ArmConstants<N>::a2;

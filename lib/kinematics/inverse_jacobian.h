@@ -79,15 +79,14 @@ SingularStatus singular_status(const SingularFactors<N>& f) {
 
 template <class N>
 JacobianInverse<N> inverse_jacobian(const ArmTrig<N>& t, const Twist<N>& twist) {
-  using K = ArmConstants<N>;
   static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);
   static constexpr typename N::Band damp_s3 = N::band(arm::kSingularBands.damp_s3);
   static constexpr typename N::Band damp_r5 = N::band(arm::kSingularBands.damp_r5_m);
-  static constexpr typename N::Unit d6 = N::unit(arm::d6_m);
-  static constexpr typename N::Unit a4 = N::unit(arm::a4_m);
-  static constexpr typename N::Unit a2a3 = N::unit(arm::a2_m * arm::a3_m);
-  static constexpr typename N::Recip inv_a2 = N::recip_constant(arm::a2_m);
-  static constexpr typename N::Recip inv_a3 = N::recip_constant(arm::a3_m);
+  static constexpr typename N::Unit d6 = N::unit(arm::d6);
+  static constexpr typename N::Unit a4 = N::unit(arm::a4);
+  static constexpr typename N::Unit a2a3 = N::unit(arm::a2 * arm::a3);
+  static constexpr typename N::Recip inv_a2 = N::recip_constant(arm::a2);
+  static constexpr typename N::Recip inv_a3 = N::recip_constant(arm::a3);
 
   JacobianInverse<N> out;
   out.factors = singular_factors<N>(t);

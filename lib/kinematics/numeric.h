@@ -42,14 +42,11 @@ struct Floating {
     T eps;
   };
 
-  static constexpr Unit unit(double x) { return (T)x; }
-  static constexpr Length length(double metres) { return (T)metres; }
-  static constexpr Real real(double x) { return (T)x; }
-  static constexpr Recip recip_constant(double c) { return (T)(1.0 / c); }
-  static constexpr Band band(double eps) { return Band{(T)eps}; }
-  static constexpr Angle angle(double rad) { return (T)rad; }
-  static double to_double(T x) { return (double)x; }
-  static double angle_to_radians(Angle a) { return (double)a; }
+  static constexpr Unit unit(Ratio x) { return (T)wmra::to_double(x); }
+  static constexpr Length length(Ratio metres) { return (T)wmra::to_double(metres); }
+  static constexpr Real real(Ratio x) { return (T)wmra::to_double(x); }
+  static constexpr Recip recip_constant(Ratio c) { return (T)(1.0 / wmra::to_double(c)); }
+  static constexpr Band band(Ratio eps) { return Band{(T)wmra::to_double(eps)}; }
 
   static SinCos sincos(Angle a) { return SinCos{sin_of(a), cos_of(a)}; }
   static Unit sin(Angle a) { return sin_of(a); }
@@ -73,15 +70,14 @@ struct Fixed {
     Recip inv_eps2;
   };
 
-  static constexpr Unit unit(double x) { return fx::unit(x); }
-  static constexpr Length length(double metres) { return fx::length(metres); }
-  static constexpr Real real(double x) { return fx::real(x); }
-  static constexpr Recip recip_constant(double c) { return fx::recip_constant(c); }
-  static constexpr Band band(double eps) { return Band{fx::unit(eps), fx::recip_constant(eps * eps)}; }
-  static constexpr Angle angle(double rad) { return fx::angle(rad); }
-  static constexpr double to_double(Unit u) { return fx::to_double(u); }
-  static constexpr double to_double(Real r) { return fx::to_double(r); }
-  static constexpr double angle_to_radians(Angle a) { return fx::to_radians(a); }
+  static constexpr Unit unit(Ratio x) { return fx::unit(x); }
+  static constexpr Length length(Ratio metres) { return fx::length(metres); }
+  static constexpr Real real(Ratio x) { return fx::real(x); }
+  static constexpr Recip recip_constant(Ratio c) { return fx::recip_constant(c); }
+  // 1/eps^2 from the eps that the comparison uses, so the damped branch meets 1/x at the edge
+  static constexpr Band band(Ratio eps) {
+    return Band{fx::unit(eps), fx::recip_constant(Ratio{(int64_t)fx::unit(eps).raw * fx::unit(eps).raw, 32768ll * 32768})};
+  }
 
   static SinCos sincos(Angle a) { return fx::sincos(a); }
   static Unit sin(Angle a) { return fx::sin(a); }

@@ -19,15 +19,6 @@ struct Recip {
   bool negative;
 };
 
-// floor(x * c / 2^16) for an unsigned 16-bit c.
-inline int32_t mul_hi_32xu16(int32_t x, uint16_t c) {
-  Word32 w;
-  w.s = x;
-  Word32 lo;
-  lo.u = mul_uu(w.h.lo, c);
-  return mul_us(c, w.h.hi) + (int32_t)(uint16_t)lo.h.hi;
-}
-
 // 1/(2m) for m = normalised / 2^16 in [0.5, 1), as UQ16 (1.0 saturates to 65535).
 inline uint16_t half_reciprocal_uq16(uint16_t normalised) {
   // y0 = 24/17 - 16/17 m  (in UQ16: 92521 - 0.941176 * M)
@@ -56,19 +47,31 @@ inline Recip reciprocal(Unit x) {
   return Recip{half_reciprocal_uq16(magnitude), s, x.raw < 0};
 }
 
-// Real * Recip. The caller guarantees the product stays inside the Real range.
+// Real * Recip, saturated at +-kRecipProductLimit. Only products through a damped
+// reciprocal, with a large twist and two singular factors at once, come near it; the
+// saturation keeps later sums of a few such terms far inside the Real range (+-256).
+constexpr int32_t kRecipProductLimit = (int32_t)1 << 29;  // 64.0 in Q23
 inline Real operator*(Real r, Recip k) {
   int32_t p = mul_hi_32xu16(r.raw, k.mantissa);
-  for (uint8_t i = 0; i < k.shift; ++i) p += p;
+  for (uint8_t i = 0; i < k.shift; ++i) {
+    if (p >= kRecipProductLimit / 2 || p <= -kRecipProductLimit / 2) {
+      p = p > 0 ? kRecipProductLimit : -kRecipProductLimit;
+      break;
+    }
+    p += p;
+  }
   return Real{k.negative ? -p : p};
 }
 
-// constexpr Recip of a positive constant c (host-side arithmetic at compile time)
-constexpr uint8_t recip_shift_for(double inv) { return inv < 0.5 ? 0 : 1 + recip_shift_for(inv / 2.0); }
-constexpr double pow2(uint8_t n) { return n == 0 ? 1.0 : 2.0 * pow2(n - 1); }
-constexpr Recip recip_constant(double c) {
-  return Recip{(uint16_t)round_to_int32(1.0 / c / pow2(recip_shift_for(1.0 / c)) * 65536.0),
-               recip_shift_for(1.0 / c), false};
+// Recip of a positive rational constant c, in integer arithmetic: 1/c = den/num lies in
+// [2^(s-1), 2^s) and the mantissa is (den/num) / 2^s in UQ16.
+constexpr uint8_t recip_shift_for(int64_t den, int64_t num) { return den < num ? 0 : 1 + recip_shift_for(den, num * 2); }
+constexpr Recip recip_from_mantissa(int64_t mantissa, uint8_t shift) {
+  return mantissa >= 65536 ? Recip{32768, (uint8_t)(shift + 1), false} : Recip{(uint16_t)mantissa, shift, false};
+}
+constexpr Recip recip_constant(Ratio c) {
+  return recip_from_mantissa(div_round(c.den * 65536, c.num << recip_shift_for(c.den, c.num)),
+                             recip_shift_for(c.den, c.num));
 }
 
 // Damped reciprocal: 1/x for |x| >= eps, x/eps^2 inside the band. It is odd, continuous

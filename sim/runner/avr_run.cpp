@@ -13,6 +13,9 @@
 #include <map>
 #include <string>
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include "probe_ports.h"
 #include "sim_avr.h"
 #include "sim_elf.h"
@@ -94,7 +97,17 @@ int main(int argc, char** argv) {
 
   elf_firmware_t firmware;
   std::memset(&firmware, 0, sizeof firmware);
-  if (elf_read_firmware(image, &firmware) != 0) {
+  // libsimavr reports what it loaded on stdout, which carries the image's console: mute it
+  std::fflush(stdout);
+  const int saved_stdout = dup(STDOUT_FILENO);
+  const int null_fd = open("/dev/null", O_WRONLY);
+  dup2(null_fd, STDOUT_FILENO);
+  const int read_status = elf_read_firmware(image, &firmware);
+  std::fflush(stdout);
+  dup2(saved_stdout, STDOUT_FILENO);
+  close(null_fd);
+  close(saved_stdout);
+  if (read_status != 0) {
     std::fprintf(stderr, "avr-run: cannot read %s\n", image);
     return 2;
   }

@@ -28,15 +28,15 @@ struct Lcg {
 inline kin::JointAngles<Fixed> random_joint_angles(Lcg& rng) {
   kin::JointAngles<Fixed> q;
   for (int i = 0; i < arm::kJoints; ++i) {
-    q.q[i].raw = rng.in_range(fx::angle(arm::q_min_rad[i]).raw, fx::angle(arm::q_max_rad[i]).raw);
+    q.q[i].raw = rng.in_range(fx::angle_deg(Ratio{arm::q_min_deg[i], 1}).raw, fx::angle_deg(Ratio{arm::q_max_deg[i], 1}).raw);
   }
   return q;
 }
 
 // joystick-sized twists: up to 0.15 m/s and 0.8 rad/s per axis
 inline kin::Twist<Fixed> random_twist(Lcg& rng) {
-  const int32_t v = fx::real(0.15).raw;
-  const int32_t w = fx::real(0.8).raw;
+  const int32_t v = fx::real(Ratio{15, 100}).raw;
+  const int32_t w = fx::real(Ratio{80, 100}).raw;
   kin::Twist<Fixed> t;
   t.v_m_s = {fx::Real{rng.in_range(-v, v)}, fx::Real{rng.in_range(-v, v)}, fx::Real{rng.in_range(-v, v)}};
   t.w_rad_s = {fx::Real{rng.in_range(-w, w)}, fx::Real{rng.in_range(-w, w)}, fx::Real{rng.in_range(-w, w)}};

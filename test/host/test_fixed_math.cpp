@@ -1,0 +1,133 @@
+// Exhaustive and sweep tests of the fixed-point primitives.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "kinematics/fixed_trig.h"
+
+using namespace wmra::fx;
+
+TEST(FixedTrig, SinCosOverEveryAngleOfTheCircle) {
+  double worst = 0;
+  for (int32_t raw = 0; raw < kAngleTurn; ++raw) {
+    const double a = to_radians(Angle{raw});
+    const SinCos sc = sincos(Angle{raw});
+    worst = std::max({worst, std::abs(to_double(sc.s) - std::sin(a)), std::abs(to_double(sc.c) - std::cos(a))});
+    ASSERT_EQ(sin(Angle{raw}).raw, sc.s.raw);
+  }
+  std::printf("sin/cos worst absolute error over %d angles: %.2e\n", kAngleTurn, worst);
+  EXPECT_LT(worst, 1e-4);
+}
+
+TEST(FixedTrig, SineTableEntriesAreRoundedSines) {
+  const int16_t* t = sin_table();
+  for (int i = 0; i < 258; ++i) {
+    const double exact = std::sin(kPi / 2 * std::min(i, 256) / 256.0) * 32768.0;
+    EXPECT_EQ(t[i], (int16_t)std::min(32767.0, std::floor(exact + 0.5))) << i;
+  }
+}
+
+TEST(FixedReciprocal, ConstantsAreExact) {
+  for (const wmra::Ratio c : {wmra::Ratio{350, 1000}, wmra::Ratio{3, 1}, wmra::Ratio{1, 400}, wmra::Ratio{1, 1}}) {
+    const Recip k = recip_constant(c);
+    const double value = k.mantissa / 65536.0 * std::pow(2.0, k.shift);
+    if (1.0 / wmra::to_double(c) >= 0.5) {
+      EXPECT_GE(k.mantissa, 32768);  // smaller values keep shift 0
+    }
+    EXPECT_NEAR(value * wmra::to_double(c), 1.0, 1.0 / 32768);
+  }
+}
+
+TEST(FixedTrig, AnglesWrapAcrossTurns) {
+  for (int32_t raw : {-3 * kAngleTurn + 1234, -1, 5 * kAngleTurn - 77}) {
+    const int32_t in_turn = ((raw % kAngleTurn) + kAngleTurn) % kAngleTurn;
+    EXPECT_EQ(sincos(Angle{raw}).s.raw, sincos(Angle{in_turn}).s.raw);
+    EXPECT_EQ(sincos(Angle{raw}).c.raw, sincos(Angle{in_turn}).c.raw);
+  }
+}
+
+TEST(FixedTrig, Atan2OverTheCircleAndManyRadii) {
+  double worst = 0;
+  for (double radius : {1e-4, 0.01, 0.3, 1.0, 100.0}) {
+    for (int k = 0; k < 36000; ++k) {
+      const double a = -kPi + (2 * kPi) * k / 36000.0;
+      const int32_t y = real(radius * std::sin(a)).raw, x = real(radius * std::cos(a)).raw;
+      const double expected = std::atan2((double)y, (double)x);
+      double err = std::abs(to_radians(atan2(y, x)) - expected);
+      err = std::min(err, 2 * kPi - err);
+      worst = std::max(worst, err);
+    }
+  }
+  std::printf("atan2 worst error: %.2e rad\n", worst);
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_EQ(atan2(0, 0).raw, 0);
+}
+
+TEST(FixedReciprocal, EveryUnitValue) {
+  double worst = 0;
+  for (int32_t raw = -32767; raw <= 32767; ++raw) {
+    if (raw == 0) continue;
+    const Recip k = reciprocal(Unit{(int16_t)raw});
+    const double value = (k.negative ? -1 : 1) * k.mantissa / 65536.0 * std::pow(2.0, k.shift);
+    const double expected = 32768.0 / raw;
+    worst = std::max(worst, std::abs(value / expected - 1));
+  }
+  std::printf("reciprocal worst relative error: %.2e\n", worst);
+  EXPECT_LT(worst, 5e-5);
+}
+
+TEST(FixedReciprocal, DampedIsContinuousBoundedAndOdd) {
+  const Unit eps = unit(wmra::Ratio{5, 100});
+  const Recip inv_eps2 = recip_constant(wmra::Ratio{(int64_t)eps.raw * eps.raw, 32768ll * 32768});
+  auto value = [&](int16_t raw) {
+    const Recip k = damped_reciprocal(Unit{raw}, eps, inv_eps2);
+    return (k.negative ? -1 : 1) * k.mantissa / 65536.0 * std::pow(2.0, k.shift);
+  };
+  double previous = value(-4000), max_step = 0, max_abs = 0;
+  for (int raw = -3999; raw <= 4000; ++raw) {
+    const double v = value((int16_t)raw);
+    max_step = std::max(max_step, std::abs(v - previous));
+    max_abs = std::max(max_abs, std::abs(v));
+    EXPECT_NEAR(v, -value((int16_t)-raw), 1e-9);
+    previous = v;
+  }
+  EXPECT_EQ(value(0), 0.0);
+  EXPECT_LT(max_abs, 1 / 0.05 * 1.001);
+  // one Q15 step times the steepest slope 1/eps^2 = 400 is 0.0122, plus reciprocal rounding
+  EXPECT_LT(max_step, 0.015);
+}
+
+TEST(FixedPoint, ProductsAreExactFloors) {
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int32_t> x(INT32_MIN / 2, INT32_MAX / 2);
+  std::uniform_int_distribution<int> c(-32767, 32767);
+  for (int n = 0; n < 200000; ++n) {
+    const int32_t a = x(rng);
+    const int16_t b = (int16_t)c(rng);
+    ASSERT_EQ(mul_hi_32x16(a, b), (int32_t)std::floor((double)a * b / 65536.0));
+    ASSERT_EQ(mul_hi_32xu16(a, (uint16_t)(b + 32768)), (int32_t)std::floor((double)a * (b + 32768) / 65536.0));
+  }
+}
+
+TEST(FixedPoint, UnitProductRoundsToNearest) {
+  for (int a = -32767; a <= 32767; a += 7) {
+    for (int b : {-32767, -20000, -1, 0, 1, 12345, 32767}) {
+      const double exact = (double)a * b / 32768.0;
+      EXPECT_LE(std::abs((Unit{(int16_t)a} * Unit{(int16_t)b}).raw - exact), 0.5 + 1e-9);
+    }
+  }
+}
+
+TEST(FixedMath, IntegerSquareRoot) {
+  std::mt19937 rng(6);
+  for (int n = 0; n < 100000; ++n) {
+    const uint32_t v = rng();
+    const uint32_t r = isqrt32(v);
+    ASSERT_LE((uint64_t)r * r, v);
+    ASSERT_GT((uint64_t)(r + 1) * (r + 1), v);
+  }
+  EXPECT_EQ(isqrt32(0), 0);
+  EXPECT_EQ(isqrt32(0xFFFFFFFFu), 65535);
+}

@@ -1,0 +1,46 @@
+// Cycle budgets of the kinematics on the ATmega2560, measured in simavr (deterministic).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+struct Timing {
+  double mean = -1;
+  double max = -1;
+};
+
+class AvrBench : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const std::string json = std::string(BENCH_OUT) + "/bench_ctest.json";
+    const std::string command = std::string(AVR_RUN) + " " + BENCH_ELF + " --timings " + json + " > /dev/null";
+    ASSERT_EQ(std::system(command.c_str()), 0) << command;
+    std::ifstream in(json);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    text_ = ss.str();
+  }
+  static Timing get(const std::string& name) {
+    Timing t;
+    const size_t at = text_.find("\"" + name + "\"");
+    if (at != std::string::npos) std::sscanf(text_.c_str() + at + name.size() + 2, ": {\"cycles\": %lf, \"max\": %lf", &t.mean, &t.max);
+    return t;
+  }
+  static std::string text_;
+};
+std::string AvrBench::text_;
+
+TEST_F(AvrBench, FixedInverseJacobianIsFiveTimesFasterThanFloat) {
+  const Timing fixed = get("jinv_fixed"), flt = get("jinv_float");
+  ASSERT_GT(fixed.mean, 0);
+  ASSERT_GT(flt.mean, 0);
+  RecordProperty("jinv_fixed_cycles", std::to_string(fixed.mean));
+  RecordProperty("jinv_float_cycles", std::to_string(flt.mean));
+  EXPECT_GE(flt.mean / fixed.mean, 5.0);
+}
+
+}  // namespace
