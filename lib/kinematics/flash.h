@@ -10,6 +10,7 @@
 namespace wmra {
 namespace fx {
 inline int16_t flash_read_i16(const int16_t* p) { return (int16_t)pgm_read_word(p); }
+inline uint16_t flash_read_u16(const uint16_t* p) { return pgm_read_word(p); }
 }  // namespace fx
 }  // namespace wmra
 #else
@@ -17,6 +18,7 @@ inline int16_t flash_read_i16(const int16_t* p) { return (int16_t)pgm_read_word(
 namespace wmra {
 namespace fx {
 inline int16_t flash_read_i16(const int16_t* p) { return *p; }
+inline uint16_t flash_read_u16(const uint16_t* p) { return *p; }
 }  // namespace fx
 }  // namespace wmra
 #endif

@@ -25,23 +25,36 @@ struct JointAngles {
 
 // Sines and cosines of the joint angles and of the sums that the formulas use, computed
 // once per control iteration and shared by the forward kinematics and the inverse Jacobian.
+// The inverse Jacobian does not depend on joint 6.
 template <class N>
-struct ArmTrig {
+struct JacobianTrig {
   using U = typename N::Unit;
-  U c1, s1, c2, s2, s3, c23, s23, c234, s234, c5, s5, c6, s6;
+  U c1, s1, c2, s2, s3, c23, s23, c234, s234, c5, s5;
+};
+template <class N>
+struct ArmTrig : JacobianTrig<N> {
+  typename N::Unit c6, s6;
 };
 
 template <class N>
-ArmTrig<N> arm_trig(const JointAngles<N>& j) {
+JacobianTrig<N> jacobian_trig(const JointAngles<N>& j) {
   const auto q23 = j.q[1] + j.q[2];
   const auto sc1 = N::sincos(j.q[0]);
   const auto sc2 = N::sincos(j.q[1]);
   const auto sc23 = N::sincos(q23);
   const auto sc234 = N::sincos(q23 + j.q[3]);
   const auto sc5 = N::sincos(j.q[4]);
+  return JacobianTrig<N>{sc1.c, sc1.s, sc2.c, sc2.s, N::sin(j.q[2]), sc23.c, sc23.s, sc234.c, sc234.s, sc5.c, sc5.s};
+}
+
+template <class N>
+ArmTrig<N> arm_trig(const JointAngles<N>& j) {
+  ArmTrig<N> t;
+  static_cast<JacobianTrig<N>&>(t) = jacobian_trig<N>(j);
   const auto sc6 = N::sincos(j.q[5]);
-  return ArmTrig<N>{sc1.c,  sc1.s,   sc2.c, sc2.s, N::sin(j.q[2]), sc23.c, sc23.s,
-                    sc234.c, sc234.s, sc5.c, sc5.s, sc6.c,           sc6.s};
+  t.c6 = sc6.c;
+  t.s6 = sc6.s;
+  return t;
 }
 
 template <class N>

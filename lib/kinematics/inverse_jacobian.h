@@ -48,13 +48,12 @@ struct SingularFactors {
 template <class N>
 struct JacobianInverse {
   typename N::Real qd_rad_s[arm::kJoints];
-  typename N::Real det;  // det J in m^3 (exact factors, not damped)
   SingularFactors<N> factors;
   SingularStatus status;
 };
 
 template <class N>
-SingularFactors<N> singular_factors(const ArmTrig<N>& t) {
+SingularFactors<N> singular_factors(const JacobianTrig<N>& t) {
   using K = ArmConstants<N>;
   const auto r5 = K::a1 + t.c2 * K::a2 + t.c23 * K::a3 + t.c234 * K::a4;
   return SingularFactors<N>{t.c5, t.s3, N::to_unit(r5)};
@@ -77,21 +76,26 @@ SingularStatus singular_status(const SingularFactors<N>& f) {
   return SingularStatus::ok;
 }
 
+// det J = -c5 s3 a2 a3 R5 (m^3), from the exact factors
 template <class N>
-JacobianInverse<N> inverse_jacobian(const ArmTrig<N>& t, const Twist<N>& twist) {
+typename N::Real determinant(const SingularFactors<N>& f) {
+  static constexpr typename N::Unit a2a3 = N::unit(arm::a2 * arm::a3);
+  return -(((f.c5 * f.s3) * a2a3) * N::to_real(f.r5));
+}
+
+template <class N>
+JacobianInverse<N> inverse_jacobian(const JacobianTrig<N>& t, const Twist<N>& twist) {
   static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);
   static constexpr typename N::Band damp_s3 = N::band(arm::kSingularBands.damp_s3);
   static constexpr typename N::Band damp_r5 = N::band(arm::kSingularBands.damp_r5_m);
   static constexpr typename N::Unit d6 = N::unit(arm::d6);
   static constexpr typename N::Unit a4 = N::unit(arm::a4);
-  static constexpr typename N::Unit a2a3 = N::unit(arm::a2 * arm::a3);
   static constexpr typename N::Recip inv_a2 = N::recip_constant(arm::a2);
   static constexpr typename N::Recip inv_a3 = N::recip_constant(arm::a3);
 
   JacobianInverse<N> out;
   out.factors = singular_factors<N>(t);
   out.status = singular_status<N>(out.factors);
-  out.det = -(((t.c5 * t.s3) * a2a3) * N::to_real(out.factors.r5));
 
   // the twist in the frame turned by q1
   const auto& v = twist.v_m_s;
@@ -120,8 +124,8 @@ JacobianInverse<N> inverse_jacobian(const ArmTrig<N>& t, const Twist<N>& twist) 
   const auto bx = -v5x - sigma * (t.s234 * a4);
   const auto bz = v5z - sigma * (t.c234 * a4);
   const auto inv_s3 = N::damped_reciprocal(t.s3, damp_s3);
-  const auto qd2 = ((bz * t.s23 - bx * t.c23) * inv_s3) * inv_a2;
-  const auto qd23 = ((bx * t.c2 - bz * t.s2) * inv_s3) * inv_a3;
+  const auto qd2 = (bz * t.s23 - bx * t.c23) * (inv_s3 * inv_a2);
+  const auto qd23 = (bx * t.c2 - bz * t.s2) * (inv_s3 * inv_a3);
 
   out.qd_rad_s[0] = qd1;
   out.qd_rad_s[1] = qd2;
@@ -134,7 +138,7 @@ JacobianInverse<N> inverse_jacobian(const ArmTrig<N>& t, const Twist<N>& twist) 
 
 template <class N>
 JacobianInverse<N> inverse_jacobian(const JointAngles<N>& q, const Twist<N>& twist) {
-  return inverse_jacobian<N>(arm_trig<N>(q), twist);
+  return inverse_jacobian<N>(jacobian_trig<N>(q), twist);
 }
 
 }  // namespace kin

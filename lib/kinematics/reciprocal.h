@@ -1,12 +1,12 @@
 // Reciprocals without a divide instruction, and the damped reciprocal used at singularities.
 //
 // A libgcc 32/16 division costs ~650 cycles on the AVR. Here 1/x is a normalised mantissa
-// and a power of two: x is shifted into [0.5, 1), a linear first guess (error <= 1/17) is
-// refined by two Newton steps y <- y + y(1 - 2m y) on the 16-bit multiplier, which leaves
-// an error near the 16-bit rounding floor (checked exhaustively in test/host).
+// and a power of two: x is shifted into [0.5, 1) and 1/(2m) is interpolated in a table
+// (checked exhaustively in test/host).
 #pragma once
 
 #include "kinematics/fixed_point.h"
+#include "kinematics/flash.h"
 
 namespace wmra {
 namespace fx {
@@ -19,20 +19,45 @@ struct Recip {
   bool negative;
 };
 
-// 1/(2m) for m = normalised / 2^16 in [0.5, 1), as UQ16 (1.0 saturates to 65535).
+// Table round(2^16 / (2m)) for m = 0.5 + i/512, i = 0..256 (entry 0 saturates at 65535);
+// test/host checks every entry. Neighbours differ by at most 255, so the interpolation is
+// one 8x8 MUL; its error is below 3.8e-6 of the value.
+inline const uint16_t* half_reciprocal_table() {
+  static const uint16_t table[257] WMRA_FLASH = {
+    65535, 65281, 65028, 64777, 64528, 64281, 64035, 63792, 63550, 63310, 63072, 62836,
+    62602, 62369, 62138, 61909, 61681, 61455, 61231, 61008, 60787, 60568, 60350, 60133,
+    59919, 59705, 59494, 59283, 59075, 58867, 58662, 58457, 58254, 58053, 57852, 57654,
+    57456, 57260, 57065, 56872, 56680, 56489, 56299, 56111, 55924, 55738, 55554, 55370,
+    55188, 55007, 54828, 54649, 54471, 54295, 54120, 53946, 53773, 53601, 53431, 53261,
+    53092, 52925, 52759, 52593, 52429, 52265, 52103, 51942, 51782, 51622, 51464, 51306,
+    51150, 50995, 50840, 50686, 50534, 50382, 50231, 50081, 49932, 49784, 49637, 49490,
+    49345, 49200, 49056, 48913, 48771, 48630, 48489, 48349, 48210, 48072, 47935, 47798,
+    47663, 47528, 47393, 47260, 47127, 46995, 46864, 46733, 46603, 46474, 46346, 46218,
+    46091, 45965, 45839, 45714, 45590, 45467, 45344, 45222, 45100, 44979, 44859, 44739,
+    44620, 44502, 44384, 44267, 44151, 44035, 43919, 43805, 43691, 43577, 43464, 43352,
+    43240, 43129, 43019, 42908, 42799, 42690, 42582, 42474, 42367, 42260, 42154, 42048,
+    41943, 41838, 41734, 41631, 41528, 41425, 41323, 41222, 41121, 41020, 40920, 40820,
+    40721, 40623, 40525, 40427, 40330, 40233, 40137, 40041, 39946, 39851, 39756, 39662,
+    39569, 39476, 39383, 39291, 39199, 39108, 39017, 38926, 38836, 38746, 38657, 38568,
+    38480, 38392, 38304, 38217, 38130, 38044, 37958, 37872, 37787, 37702, 37617, 37533,
+    37449, 37366, 37283, 37200, 37118, 37036, 36954, 36873, 36792, 36712, 36631, 36552,
+    36472, 36393, 36314, 36236, 36158, 36080, 36003, 35926, 35849, 35772, 35696, 35620,
+    35545, 35470, 35395, 35320, 35246, 35172, 35099, 35026, 34953, 34880, 34808, 34735,
+    34664, 34592, 34521, 34450, 34380, 34309, 34239, 34169, 34100, 34031, 33962, 33893,
+    33825, 33757, 33689, 33622, 33554, 33487, 33421, 33354, 33288, 33222, 33157, 33091,
+    33026, 32961, 32897, 32832, 32768,
+  };
+  return table;
+}
+
+// 1/(2m) in UQ16 for m = normalised / 2^16 in [0.5, 1)
 inline uint16_t half_reciprocal_uq16(uint16_t normalised) {
-  // y0 = 24/17 - 16/17 m  (in UQ16: 92521 - 0.941176 * M)
-  uint32_t y = 92521u - (mul_uu(normalised, 61681u) >> 16);
-  for (uint8_t i = 0; i < 2; ++i) {
-    // e = 1 - 2 m y in Q31; |e| <= 1/17 < 2^-4, so e in Q16 needs 13 bits and the
-    // doubling below cannot overflow
-    const uint16_t y16 = y > 65535u ? 65535u : (uint16_t)y;
-    const int32_t e_q31 = (int32_t)(0x80000000u - mul_uu(normalised, y16));
-    Word32 e;
-    e.s = (e_q31 + 0x4000) << 1;
-    y = (uint32_t)((int32_t)y16 + (mul_us(y16, e.h.hi) >> 16));
-  }
-  return y > 65535u ? 65535u : (uint16_t)y;
+  const uint8_t i = (uint8_t)(normalised >> 7);   // the 8 bits after the leading one
+  const uint8_t f2 = (uint8_t)(normalised << 1);  // the remaining 7 bits, as a fraction of 256
+  const uint16_t* t = half_reciprocal_table();
+  const uint16_t hi = flash_read_u16(t + i);
+  const uint8_t step = (uint8_t)(hi - flash_read_u16(t + i + 1));
+  return (uint16_t)(hi - (((uint16_t)step * f2 + 128u) >> 8));
 }
 
 // 1/x for a Unit x != 0.
@@ -61,6 +86,18 @@ inline Real operator*(Real r, Recip k) {
     p += p;
   }
   return Real{k.negative ? -p : p};
+}
+
+// Recip * Recip: the product of the mantissas, renormalised, and the sum of the shifts.
+inline Recip operator*(Recip a, Recip b) {
+  Word32 p;
+  p.u = mul_uu(a.mantissa, b.mantissa);  // UQ32
+  uint8_t shift = (uint8_t)(a.shift + b.shift);
+  if (!(p.u & 0x80000000u) && shift > 0) {
+    p.u <<= 1;
+    --shift;
+  }
+  return Recip{(uint16_t)p.h.hi, shift, a.negative != b.negative};
 }
 
 // Recip of a positive rational constant c, in integer arithmetic: 1/c = den/num lies in

@@ -67,7 +67,7 @@ void emit_case(Put& put, const kin::JointAngles<Fixed>& q, const kin::Twist<Fixe
   const auto inv = kin::inverse_jacobian<Fixed>(trig, twist);
   put('J');
   for (int i = 0; i < arm::kJoints; ++i) hex(put, (uint32_t)inv.qd_rad_s[i].raw, 8);
-  hex(put, (uint32_t)inv.det.raw, 8);
+  hex(put, (uint32_t)kin::determinant<Fixed>(inv.factors).raw, 8);
   put((char)('0' + (int)inv.status));
   put('\n');
 }

@@ -29,6 +29,21 @@ TEST(FixedTrig, SineTableEntriesAreRoundedSines) {
   }
 }
 
+TEST(FixedReciprocal, TableEntriesAreRoundedHalfReciprocals) {
+  const uint16_t* t = half_reciprocal_table();
+  for (int i = 0; i <= 256; ++i) {
+    const double exact = 65536.0 / (2 * (0.5 + i / 512.0));
+    EXPECT_EQ(t[i], (uint16_t)std::min(65535.0, std::floor(exact + 0.5))) << i;
+  }
+}
+
+TEST(FixedReciprocal, ProductOfReciprocals) {
+  const Recip a = recip_constant(wmra::Ratio{350, 1000}), b = reciprocal(Unit{-12345});
+  const Recip p = a * b;
+  const double value = (p.negative ? -1 : 1) * p.mantissa / 65536.0 * std::pow(2.0, p.shift);
+  EXPECT_NEAR(value, 1 / 0.35 * (32768.0 / -12345), 1e-4 * std::abs(value));
+}
+
 TEST(FixedReciprocal, ConstantsAreExact) {
   for (const wmra::Ratio c : {wmra::Ratio{350, 1000}, wmra::Ratio{3, 1}, wmra::Ratio{1, 400}, wmra::Ratio{1, 1}}) {
     const Recip k = recip_constant(c);

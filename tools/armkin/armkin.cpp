@@ -114,7 +114,7 @@ std::string jinv(const kin::JointAngles<N>& q, const kin::Twist<N>& twist) {
   const auto inv = kin::inverse_jacobian<N>(q, twist);
   double qd[6];
   for (int i = 0; i < 6; ++i) qd[i] = out(inv.qd_rad_s[i]);
-  return "{\"qd\":" + json_list(qd, 6) + ",\"det\":" + number(out(inv.det)) + ",\"status\":\"" +
+  return "{\"qd\":" + json_list(qd, 6) + ",\"det\":" + number(out(kin::determinant<N>(inv.factors))) + ",\"status\":\"" +
          kin::to_string(inv.status) + "\"}";
 }
 
