@@ -120,69 +120,21 @@ inline uint16_t hi16(uint32_t x) {
 }
 
 // floor(x * c / 2^16), exact: the top 32 bits of the 48-bit product.
-// On the AVR the eight 8x8 partial products are summed straight into the result bytes;
-// a signed partial product is sign-extended by subtracting MULSU's carry (its sign) from
-// the bytes above it (the AVR201 trick). Byte 0 of the product never carries, so it is
-// not formed.
+// On the AVR the eight 8x8 partial products of the unsigned operands are summed straight
+// into the result bytes (byte 0 of the product never carries, so it is not formed). MUL,
+// unlike MULS/MULSU, takes any register, which spares the compiler from moving both
+// operands into r16-r23 for every product. The signs are put back exactly afterwards:
+// with U the unsigned result, floor(x c / 2^16) = U - [c < 0] x - [x < 0] c 2^16 (mod 2^32).
 #if defined(__AVR__)
-inline int32_t mul_hi_32x16(int32_t x, int16_t c) {
-  int32_t r;
+inline uint32_t mul_hi_u32xu16(uint32_t x, uint16_t c) {
+  uint32_t r;
   uint8_t t, z;
   asm("clr   %[z]\n\t"
       "mul   %A[x], %A[c]\n\t"  // @0
       "mov   %[t], r1\n\t"
       "mul   %C[x], %A[c]\n\t"  // @2
       "movw  %A[r], r0\n\t"
-      "muls  %D[x], %B[c]\n\t"  // @4, signed x signed
-      "movw  %C[r], r0\n\t"
-      "mul   %B[x], %A[c]\n\t"  // @1
-      "add   %[t], r0\n\t"
-      "adc   %A[r], r1\n\t"
-      "adc   %B[r], %[z]\n\t"
-      "adc   %C[r], %[z]\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "mulsu %D[x], %A[c]\n\t"  // @3, signed
-      "sbc   %D[r], %[z]\n\t"
-      "add   %B[r], r0\n\t"
-      "adc   %C[r], r1\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "mulsu %B[c], %A[x]\n\t"  // @1, signed
-      "sbc   %B[r], %[z]\n\t"
-      "sbc   %C[r], %[z]\n\t"
-      "sbc   %D[r], %[z]\n\t"
-      "add   %[t], r0\n\t"
-      "adc   %A[r], r1\n\t"
-      "adc   %B[r], %[z]\n\t"
-      "adc   %C[r], %[z]\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "mulsu %B[c], %B[x]\n\t"  // @2, signed
-      "sbc   %C[r], %[z]\n\t"
-      "sbc   %D[r], %[z]\n\t"
-      "add   %A[r], r0\n\t"
-      "adc   %B[r], r1\n\t"
-      "adc   %C[r], %[z]\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "mulsu %B[c], %C[x]\n\t"  // @3, signed
-      "sbc   %D[r], %[z]\n\t"
-      "add   %B[r], r0\n\t"
-      "adc   %C[r], r1\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "clr   __zero_reg__"
-      : [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z)
-      : [x] "a"(x), [c] "a"(c));
-  return r;
-}
-
-// floor(x * c / 2^16) for an unsigned c, exact.
-inline int32_t mul_hi_32xu16(int32_t x, uint16_t c) {
-  int32_t r;
-  uint8_t t, z;
-  asm("clr   %[z]\n\t"
-      "mul   %A[x], %A[c]\n\t"  // @0
-      "mov   %[t], r1\n\t"
-      "mul   %C[x], %A[c]\n\t"  // @2
-      "movw  %A[r], r0\n\t"
-      "mulsu %D[x], %B[c]\n\t"  // @4, signed x unsigned
+      "mul   %D[x], %B[c]\n\t"  // @4
       "movw  %C[r], r0\n\t"
       "mul   %B[x], %A[c]\n\t"  // @1
       "add   %[t], r0\n\t"
@@ -196,8 +148,7 @@ inline int32_t mul_hi_32xu16(int32_t x, uint16_t c) {
       "adc   %B[r], %[z]\n\t"
       "adc   %C[r], %[z]\n\t"
       "adc   %D[r], %[z]\n\t"
-      "mulsu %D[x], %A[c]\n\t"  // @3, signed
-      "sbc   %D[r], %[z]\n\t"
+      "mul   %D[x], %A[c]\n\t"  // @3
       "add   %B[r], r0\n\t"
       "adc   %C[r], r1\n\t"
       "adc   %D[r], %[z]\n\t"
@@ -212,8 +163,24 @@ inline int32_t mul_hi_32xu16(int32_t x, uint16_t c) {
       "adc   %D[r], %[z]\n\t"
       "clr   __zero_reg__"
       : [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z)
-      : [x] "a"(x), [c] "a"(c));
+      : [x] "r"(x), [c] "r"(c));
   return r;
+}
+
+inline int32_t mul_hi_32x16(int32_t x, int16_t c) {
+  Word32 r;
+  r.u = mul_hi_u32xu16((uint32_t)x, (uint16_t)c);
+  if (c < 0) r.u -= (uint32_t)x;
+  if (x < 0) r.h.hi -= c;  // c 2^16: only the high half changes
+  return r.s;
+}
+
+// floor(x * c / 2^16) for an unsigned c, exact.
+inline int32_t mul_hi_32xu16(int32_t x, uint16_t c) {
+  Word32 r;
+  r.u = mul_hi_u32xu16((uint32_t)x, c);
+  if (x < 0) r.h.hi -= (int16_t)c;
+  return r.s;
 }
 #else
 inline int32_t mul_hi_32x16(int32_t x, int16_t c) { return (int32_t)(((int64_t)x * c) >> 16); }

@@ -1,7 +1,9 @@
 // avr-run: run an ATmega2560 image in simavr at 16 MHz, print its console, time its regions.
 //
-//   avr-run IMAGE.elf [--max-cycles N] [--timings FILE.json]
+//   avr-run IMAGE.elf [--max-cycles N] [--timings FILE.json] [--profile FILE]
 //
+// --profile writes the cycles spent at each instruction address ("0xADDR cycles" lines,
+// byte addresses as avr-objdump and avr-addr2line use them).
 // The image names its regions by printing lines "@ID NAME" on the console. Each region's
 // cycle count is the core's cycle counter between the start and stop writes, less the cost
 // of an empty region (the image's region id 1 must be that empty calibration region).
@@ -74,7 +76,7 @@ void on_stop(avr_t* avr, avr_io_addr_t, uint8_t id, void*) {
 }
 
 int usage() {
-  std::fprintf(stderr, "usage: avr-run IMAGE.elf [--max-cycles N] [--timings FILE.json]\n");
+  std::fprintf(stderr, "usage: avr-run IMAGE.elf [--max-cycles N] [--timings FILE.json] [--profile FILE]\n");
   return 2;
 }
 
@@ -85,11 +87,14 @@ int main(int argc, char** argv) {
   const char* image = argv[1];
   uint64_t max_cycles = 4000000000ull;
   const char* timings_path = nullptr;
+  const char* profile_path = nullptr;
   for (int i = 2; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--max-cycles") && i + 1 < argc) {
       max_cycles = std::strtoull(argv[++i], nullptr, 10);
     } else if (!std::strcmp(argv[i], "--timings") && i + 1 < argc) {
       timings_path = argv[++i];
+    } else if (!std::strcmp(argv[i], "--profile") && i + 1 < argc) {
+      profile_path = argv[++i];
     } else {
       return usage();
     }
@@ -126,8 +131,27 @@ int main(int argc, char** argv) {
   avr_register_io_write(avr, WMRA_PROBE_STOP_IO + WMRA_PROBE_DATA_OFFSET, on_stop, nullptr);
 
   int state = cpu_Running;
-  while (state != cpu_Done && state != cpu_Crashed && avr->cycle < max_cycles) state = avr_run(avr);
+  std::map<uint32_t, uint64_t> profile;
+  while (state != cpu_Done && state != cpu_Crashed && avr->cycle < max_cycles) {
+    if (profile_path) {
+      const uint32_t pc = avr->pc;
+      const uint64_t before = avr->cycle;
+      state = avr_run(avr);
+      profile[pc] += avr->cycle - before;
+    } else {
+      state = avr_run(avr);
+    }
+  }
   std::fflush(stdout);
+  if (profile_path) {
+    FILE* f = std::fopen(profile_path, "w");
+    if (!f) {
+      std::fprintf(stderr, "avr-run: cannot write %s\n", profile_path);
+      return 2;
+    }
+    for (const auto& [pc, cycles] : profile) std::fprintf(f, "0x%x %" PRIu64 "\n", pc, cycles);
+    std::fclose(f);
+  }
 
   const uint64_t empty = probe.stats[1].count ? probe.stats[1].min : 0;
   if (timings_path) {
