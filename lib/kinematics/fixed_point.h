@@ -220,18 +220,60 @@ constexpr double to_double(Real r) { return r.raw / 8388608.0; }
 
 // --- Unit arithmetic
 inline Unit operator-(Unit a) { return Unit{(int16_t)-a.raw}; }
-// sums of rotation terms are bounded by 1 in exact arithmetic; rounding may step past it
+// Sums of rotation terms are bounded by 1 in exact arithmetic; rounding may step past it.
+// The sum saturates at +-32767 (never -32768, which would break negation and Unit*Unit).
 inline Unit saturate_unit(int32_t raw) {
   return Unit{(int16_t)(raw > kUnitOne ? kUnitOne : raw < -kUnitOne ? -kUnitOne : raw)};
 }
-inline Unit operator+(Unit a, Unit b) { return saturate_unit((int32_t)a.raw + b.raw); }
-inline Unit operator-(Unit a, Unit b) { return saturate_unit((int32_t)a.raw - b.raw); }
-inline Unit operator*(Unit a, Unit b) {
-  Word32 p;
-  p.s = mul_ss(a.raw, b.raw);  // Q30, |p| < 2^30 since |a|,|b| <= 32767
-  p.s += p.s + 0x8000;         // Q31, rounded at bit 16
-  return Unit{p.h.hi};
+inline Unit saturated_sum(int16_t sum, bool overflow, bool negative_operand) {
+  if (overflow) return Unit{(int16_t)(negative_operand ? -kUnitOne : kUnitOne)};
+  return Unit{sum == -32768 ? (int16_t)-kUnitOne : sum};
 }
+inline Unit operator+(Unit a, Unit b) {
+  int16_t s;
+  const bool overflow = __builtin_add_overflow(a.raw, b.raw, &s);
+  return saturated_sum(s, overflow, a.raw < 0);
+}
+inline Unit operator-(Unit a, Unit b) {
+  int16_t s;
+  const bool overflow = __builtin_sub_overflow(a.raw, b.raw, &s);
+  return saturated_sum(s, overflow, a.raw < 0);
+}
+// Unit * Unit = (a b + 2^14) >> 15, rounded to nearest. |a|, |b| <= 32767 keeps the sum below 2^30.
+// On the AVR the rounding and the shift by 15 are done inside the multiply.
+#if defined(__AVR__)
+inline Unit operator*(Unit a, Unit b) {
+  int16_t r;
+  uint8_t low, z;
+  asm("clr   %[z]\n\t"
+      "mul   %A[a], %A[b]\n\t"  // @0: only its high byte reaches byte 1
+      "mov   %[low], r1\n\t"
+      "muls  %B[a], %B[b]\n\t"  // @2
+      "movw  %A[r], r0\n\t"
+      "mulsu %B[a], %A[b]\n\t"  // @1, signed
+      "sbc   %B[r], %[z]\n\t"
+      "add   %[low], r0\n\t"
+      "adc   %A[r], r1\n\t"
+      "adc   %B[r], %[z]\n\t"
+      "mulsu %B[b], %A[a]\n\t"  // @1, signed
+      "sbc   %B[r], %[z]\n\t"
+      "add   %[low], r0\n\t"
+      "adc   %A[r], r1\n\t"
+      "adc   %B[r], %[z]\n\t"
+      "clr   __zero_reg__\n\t"
+      "subi  %[low], 0xC0\n\t"  // + 2^14, i.e. 0x40 in byte 1
+      "sbci  %A[r], 0xFF\n\t"
+      "sbci  %B[r], 0xFF\n\t"
+      "lsl   %[low]\n\t"         // >> 15: one left shift of bytes 1-3, keep bytes 2-3
+      "rol   %A[r]\n\t"
+      "rol   %B[r]"
+      : [r] "=&d"(r), [low] "=&d"(low), [z] "=&r"(z)
+      : [a] "a"(a.raw), [b] "a"(b.raw));
+  return Unit{r};
+}
+#else
+inline Unit operator*(Unit a, Unit b) { return Unit{(int16_t)(((int32_t)a.raw * b.raw + 16384) >> 15)}; }
+#endif
 
 // --- Real arithmetic
 inline Real operator+(Real a, Real b) { return Real{a.raw + b.raw}; }

@@ -76,7 +76,6 @@ inline int16_t interpolate_down(const int16_t* t, uint8_t i, uint8_t f) {
   const uint8_t step = (uint8_t)(hi - flash_read_i16(t + 255 - i));
   return (int16_t)(hi - (((uint16_t)step * f + 128u) >> 8));
 }
-
 inline SinCos sincos(Angle a) {
   const uint8_t i = (uint8_t)(a.raw >> 8);
   const uint8_t f = (uint8_t)a.raw;

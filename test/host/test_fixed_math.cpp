@@ -128,9 +128,9 @@ TEST(FixedPoint, ProductsAreExactFloors) {
 
 TEST(FixedPoint, UnitProductRoundsToNearest) {
   for (int a = -32767; a <= 32767; a += 7) {
-    for (int b : {-32767, -20000, -1, 0, 1, 12345, 32767}) {
+    for (int b : {-32767, -20000, -255, -1, 0, 1, 255, 12345, 32767}) {
       const double exact = (double)a * b / 32768.0;
-      EXPECT_LE(std::abs((Unit{(int16_t)a} * Unit{(int16_t)b}).raw - exact), 0.5 + 1e-9);
+      EXPECT_LE(std::abs((Unit{(int16_t)a} * Unit{(int16_t)b}).raw - exact), 0.5 + 1e-9) << a << " " << b;
     }
   }
 }
