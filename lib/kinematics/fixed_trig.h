@@ -76,11 +76,52 @@ inline int16_t interpolate_down(const int16_t* t, uint8_t i, uint8_t f) {
   const uint8_t step = (uint8_t)(hi - flash_read_i16(t + 255 - i));
   return (int16_t)(hi - (((uint16_t)step * f + 128u) >> 8));
 }
+// sin and cos of the angle within its quadrant. On the AVR both interpolations are one asm
+// block: eight LPM reads and two MULs, with (x + 128) >> 8 as the high byte plus bit 7 of
+// the low byte. Only the low bytes of the neighbours are needed for the step (<= 201).
+#if defined(__AVR__)
+inline SinCos sincos_quadrant(uint8_t i, uint8_t f) {
+  const int16_t* up = sin_table() + i;
+  const int16_t* down = sin_table() + 255 - i;
+  int16_t s, c;
+  uint8_t a, b, zero;
+  asm("clr   %[zero]\n\t"
+      "lpm   %A[s], Z+\n\t"       // t[i]
+      "lpm   %B[s], Z+\n\t"
+      "lpm   %[a], Z\n\t"         // low byte of t[i + 1]
+      "sub   %[a], %A[s]\n\t"
+      "mul   %[a], %[f]\n\t"
+      "lsl   r0\n\t"
+      "adc   r1, %[zero]\n\t"
+      "add   %A[s], r1\n\t"
+      "adc   %B[s], %[zero]\n\t"
+      "movw  r30, %[down]\n\t"
+      "lpm   %[b], Z\n\t"         // low byte of t[255 - i]
+      "adiw  r30, 2\n\t"
+      "lpm   %A[c], Z+\n\t"       // t[256 - i]
+      "lpm   %B[c], Z\n\t"
+      "mov   %[a], %A[c]\n\t"
+      "sub   %[a], %[b]\n\t"
+      "mul   %[a], %[f]\n\t"
+      "lsl   r0\n\t"
+      "adc   r1, %[zero]\n\t"
+      "sub   %A[c], r1\n\t"
+      "sbc   %B[c], %[zero]\n\t"
+      "clr   __zero_reg__"
+      : [s] "=&r"(s), [c] "=&r"(c), [a] "=&r"(a), [b] "=&r"(b), [zero] "=&r"(zero), "+z"(up)
+      : [down] "r"(down), [f] "r"(f));
+  return SinCos{Unit{s}, Unit{c}};
+}
+#else
+inline SinCos sincos_quadrant(uint8_t i, uint8_t f) {
+  return SinCos{Unit{interpolate_up(sin_table(), i, f)}, Unit{interpolate_down(sin_table(), i, f)}};
+}
+#endif
+
 inline SinCos sincos(Angle a) {
-  const uint8_t i = (uint8_t)(a.raw >> 8);
-  const uint8_t f = (uint8_t)a.raw;
-  const int16_t s0 = interpolate_up(sin_table(), i, f);
-  const int16_t c0 = interpolate_down(sin_table(), i, f);
+  const SinCos q = sincos_quadrant((uint8_t)(a.raw >> 8), (uint8_t)a.raw);
+  const int16_t s0 = q.s.raw;
+  const int16_t c0 = q.c.raw;
   switch ((uint8_t)(a.raw >> 16) & 3u) {
     case 0: return SinCos{Unit{s0}, Unit{c0}};
     case 1: return SinCos{Unit{c0}, Unit{(int16_t)-s0}};

@@ -23,37 +23,70 @@ struct JointAngles {
   typename N::Angle q[arm::kJoints];
 };
 
-// Sines and cosines of the joint angles and of the sums that the formulas use, computed
-// once per control iteration and shared by the forward kinematics and the inverse Jacobian.
-// The inverse Jacobian does not depend on joint 6.
+// Sines and cosines of the joint angles and of the sums that the formulas use. The firmware
+// computes ArmTrig once per control iteration and shares it between the forward kinematics
+// and the inverse Jacobian; each alone needs less (FK no s3, J^-1 nothing of joint 6), and
+// the formulas take any of these structs that has the members they use.
+template <class N>
+struct PoseTrig {
+  typename N::Unit c1, s1, c2, s2, c23, s23, c234, s234, c5, s5, c6, s6;
+};
 template <class N>
 struct JacobianTrig {
-  using U = typename N::Unit;
-  U c1, s1, c2, s2, s3, c23, s23, c234, s234, c5, s5;
+  typename N::Unit c1, s1, c2, s2, s3, c23, s23, c234, s234, c5, s5;
 };
 template <class N>
-struct ArmTrig : JacobianTrig<N> {
-  typename N::Unit c6, s6;
+struct ArmTrig {
+  typename N::Unit c1, s1, c2, s2, s3, c23, s23, c234, s234, c5, s5, c6, s6;
 };
 
-template <class N>
-JacobianTrig<N> jacobian_trig(const JointAngles<N>& j) {
+// the sines and cosines that every set has
+template <class N, class Trig>
+void fill_chain_trig(const JointAngles<N>& j, Trig& t) {
   const auto q23 = j.q[1] + j.q[2];
   const auto sc1 = N::sincos(j.q[0]);
+  t.c1 = sc1.c;
+  t.s1 = sc1.s;
   const auto sc2 = N::sincos(j.q[1]);
+  t.c2 = sc2.c;
+  t.s2 = sc2.s;
   const auto sc23 = N::sincos(q23);
+  t.c23 = sc23.c;
+  t.s23 = sc23.s;
   const auto sc234 = N::sincos(q23 + j.q[3]);
+  t.c234 = sc234.c;
+  t.s234 = sc234.s;
   const auto sc5 = N::sincos(j.q[4]);
-  return JacobianTrig<N>{sc1.c, sc1.s, sc2.c, sc2.s, N::sin(j.q[2]), sc23.c, sc23.s, sc234.c, sc234.s, sc5.c, sc5.s};
+  t.c5 = sc5.c;
+  t.s5 = sc5.s;
 }
-
-template <class N>
-ArmTrig<N> arm_trig(const JointAngles<N>& j) {
-  ArmTrig<N> t;
-  static_cast<JacobianTrig<N>&>(t) = jacobian_trig<N>(j);
+template <class N, class Trig>
+void fill_roll_trig(const JointAngles<N>& j, Trig& t) {
   const auto sc6 = N::sincos(j.q[5]);
   t.c6 = sc6.c;
   t.s6 = sc6.s;
+}
+
+template <class N>
+PoseTrig<N> pose_trig(const JointAngles<N>& j) {
+  PoseTrig<N> t;
+  fill_chain_trig<N>(j, t);
+  fill_roll_trig<N>(j, t);
+  return t;
+}
+template <class N>
+JacobianTrig<N> jacobian_trig(const JointAngles<N>& j) {
+  JacobianTrig<N> t;
+  fill_chain_trig<N>(j, t);
+  t.s3 = N::sin(j.q[2]);
+  return t;
+}
+template <class N>
+ArmTrig<N> arm_trig(const JointAngles<N>& j) {
+  ArmTrig<N> t;
+  fill_chain_trig<N>(j, t);
+  fill_roll_trig<N>(j, t);
+  t.s3 = N::sin(j.q[2]);
   return t;
 }
 
@@ -79,16 +112,17 @@ template <class N> constexpr typename N::Length ArmConstants<N>::a4;
 template <class N> constexpr typename N::Length ArmConstants<N>::d1;
 template <class N> constexpr typename N::Length ArmConstants<N>::d6;
 
-template <class N>
-Pose<N> forward_kinematics(const ArmTrig<N>& t) {
+template <class N, class Trig>
+Pose<N> forward_kinematics(const Trig& t) {
   using K = ArmConstants<N>;
+  static constexpr typename N::Unit d6 = N::unit(arm::d6);
   const auto L = K::a4 + t.c5 * K::d6;
   const auto r = K::a1 + t.c2 * K::a2 + t.c23 * K::a3 + t.c234 * L;
-  const auto s5d6 = t.s5 * K::d6;
+  const auto s5d6 = t.s5 * d6;  // the wrist's sideways offset, < 0.2 m: a Unit is precise enough
 
   Pose<N> pose;
-  pose.p_m.x = t.c1 * r + t.s1 * s5d6;
-  pose.p_m.y = t.s1 * r - t.c1 * s5d6;
+  pose.p_m.x = t.c1 * r + N::to_real(t.s1 * s5d6);
+  pose.p_m.y = t.s1 * r - N::to_real(t.c1 * s5d6);
   pose.p_m.z = K::d1 + t.s2 * K::a2 + t.s23 * K::a3 + t.s234 * L;
 
   // columns n, o, a of 0R6 (seed2-digest 4.1), sharing the wrist terms
@@ -113,7 +147,7 @@ Pose<N> forward_kinematics(const ArmTrig<N>& t) {
 
 template <class N>
 Pose<N> forward_kinematics(const JointAngles<N>& q) {
-  return forward_kinematics<N>(arm_trig<N>(q));
+  return forward_kinematics<N>(pose_trig<N>(q));
 }
 
 }  // namespace kin

@@ -52,8 +52,8 @@ struct JacobianInverse {
   SingularStatus status;
 };
 
-template <class N>
-SingularFactors<N> singular_factors(const JacobianTrig<N>& t) {
+template <class N, class Trig>
+SingularFactors<N> singular_factors(const Trig& t) {
   using K = ArmConstants<N>;
   const auto r5 = K::a1 + t.c2 * K::a2 + t.c23 * K::a3 + t.c234 * K::a4;
   return SingularFactors<N>{t.c5, t.s3, N::to_unit(r5)};
@@ -83,8 +83,8 @@ typename N::Real determinant(const SingularFactors<N>& f) {
   return -(((f.c5 * f.s3) * a2a3) * N::to_real(f.r5));
 }
 
-template <class N>
-JacobianInverse<N> inverse_jacobian(const JacobianTrig<N>& t, const Twist<N>& twist) {
+template <class N, class Trig>
+JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);
   static constexpr typename N::Band damp_s3 = N::band(arm::kSingularBands.damp_s3);
   static constexpr typename N::Band damp_r5 = N::band(arm::kSingularBands.damp_r5_m);
