@@ -222,23 +222,43 @@ constexpr double to_double(Real r) { return r.raw / 8388608.0; }
 inline Unit operator-(Unit a) { return Unit{(int16_t)-a.raw}; }
 // Sums of rotation terms are bounded by 1 in exact arithmetic; rounding may step past it.
 // The sum saturates at +-32767 (never -32768, which would break negation and Unit*Unit).
-inline Unit saturate_unit(int32_t raw) {
-  return Unit{(int16_t)(raw > kUnitOne ? kUnitOne : raw < -kUnitOne ? -kUnitOne : raw)};
-}
-inline Unit saturated_sum(int16_t sum, bool overflow, bool negative_operand) {
-  if (overflow) return Unit{(int16_t)(negative_operand ? -kUnitOne : kUnitOne)};
-  return Unit{sum == -32768 ? (int16_t)-kUnitOne : sum};
-}
+#if defined(__AVR__)
+// add or sub, then on overflow (V set) the limit of the true result's sign, which is
+// b's sign for a sum and the opposite of it for a difference; then -32768 -> -32767
+#define WMRA_SATURATE_UNIT_ASM(op_lo, op_hi, skip_if_b_negative)                   \
+  op_lo "  %A[r], %A[b]\n\t" op_hi "  %B[r], %B[b]\n\t"                          \
+        "brvc 1f\n\t"                                                               \
+        "ldi  %A[r], 0xFF\n\t"                                                      \
+        "ldi  %B[r], 0x7F\n\t" skip_if_b_negative "  %B[b], 7\n\t"                \
+        "rjmp 2f\n\t"                                                               \
+        "ldi  %A[r], 0x01\n\t"                                                      \
+        "ldi  %B[r], 0x80\n\t"                                                      \
+        "rjmp 2f\n"                                                                  \
+        "1:\n\t"                                                                    \
+        "cpi  %B[r], 0x80\n\t"                                                      \
+        "brne 2f\n\t"                                                               \
+        "tst  %A[r]\n\t"                                                            \
+        "brne 2f\n\t"                                                               \
+        "ldi  %A[r], 0x01\n"                                                         \
+        "2:"
 inline Unit operator+(Unit a, Unit b) {
-  int16_t s;
-  const bool overflow = __builtin_add_overflow(a.raw, b.raw, &s);
-  return saturated_sum(s, overflow, a.raw < 0);
+  int16_t r = a.raw;
+  asm(WMRA_SATURATE_UNIT_ASM("add", "adc", "sbrs") : [r] "+d"(r) : [b] "r"(b.raw));
+  return Unit{r};
 }
 inline Unit operator-(Unit a, Unit b) {
-  int16_t s;
-  const bool overflow = __builtin_sub_overflow(a.raw, b.raw, &s);
-  return saturated_sum(s, overflow, a.raw < 0);
+  int16_t r = a.raw;
+  asm(WMRA_SATURATE_UNIT_ASM("sub", "sbc", "sbrc") : [r] "+d"(r) : [b] "r"(b.raw));
+  return Unit{r};
 }
+#undef WMRA_SATURATE_UNIT_ASM
+#else
+inline Unit saturated_sum(int32_t sum) {
+  return Unit{(int16_t)(sum > kUnitOne ? kUnitOne : sum < -kUnitOne ? -kUnitOne : sum)};
+}
+inline Unit operator+(Unit a, Unit b) { return saturated_sum((int32_t)a.raw + b.raw); }
+inline Unit operator-(Unit a, Unit b) { return saturated_sum((int32_t)a.raw - b.raw); }
+#endif
 // Unit * Unit = (a b + 2^14) >> 15, rounded to nearest. |a|, |b| <= 32767 keeps the sum below 2^30.
 // On the AVR the rounding and the shift by 15 are done inside the multiply.
 #if defined(__AVR__)
@@ -307,7 +327,7 @@ inline Real operator+(Length a, Real b) { return to_real(a) + b; }
 // Real -> Unit for values known to lie in (-1, 1) (positions of the wrist within 1 m,
 // normalised ratios); saturates instead of wrapping.
 inline Unit to_unit(Real r) {
-  return saturate_unit((r.raw + 0x80) >> 8);
+  return Unit{saturate_unit_raw((r.raw + 0x80) >> 8)};
 }
 
 }  // namespace fx

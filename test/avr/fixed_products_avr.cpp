@@ -45,6 +45,17 @@ int main() {
     wide = (int64_t)(uint16_t)x * cu;
     if (fx::mul_uu((uint16_t)x, cu) != (uint32_t)wide && ++mismatches <= 20) report("uu", x, cu, (int32_t)fx::mul_uu((uint16_t)x, cu), (int32_t)wide);
   }
+  // saturating Unit sums, including the overflow and -32768 corners
+  const int16_t corners[] = {-32767, -32766, -16384, -1, 0, 1, 16384, 32766, 32767};
+  for (int16_t a : corners) {
+    for (int16_t b : corners) {
+      int32_t sum = (int32_t)a + b, diff = (int32_t)a - b;
+      sum = sum > 32767 ? 32767 : sum < -32767 ? -32767 : sum;
+      diff = diff > 32767 ? 32767 : diff < -32767 ? -32767 : diff;
+      if ((fx::Unit{a} + fx::Unit{b}).raw != sum && ++mismatches <= 20) report("+", a, b, (fx::Unit{a} + fx::Unit{b}).raw, sum);
+      if ((fx::Unit{a} - fx::Unit{b}).raw != diff && ++mismatches <= 20) report("-", a, b, (fx::Unit{a} - fx::Unit{b}).raw, diff);
+    }
+  }
   probe::print("mismatches ");
   probe::print_uint(mismatches);
   probe::put('\n');

@@ -43,4 +43,13 @@ TEST_F(AvrBench, FixedInverseJacobianIsFiveTimesFasterThanFloat) {
   EXPECT_GE(flt.mean / fixed.mean, 5.0);
 }
 
+// SPEC section 8: forward kinematics (pose of frame 6 from the joint angles) <= 2,500 cycles,
+// gated on the worst case over the pose set
+TEST_F(AvrBench, FixedForwardKinematicsWithinBudget) {
+  const Timing fk = get("fk_fixed");
+  ASSERT_GT(fk.max, 0);
+  RecordProperty("fk_fixed_max_cycles", std::to_string(fk.max));
+  EXPECT_LE(fk.max, 2500);
+}
+
 }  // namespace

@@ -48,4 +48,11 @@ TEST(AvrKinematics, BitIdenticalToHost) {
   EXPECT_EQ(line, (size_t)wmra::vectors::kCases + 1);
 }
 
+// The hand-written AVR arithmetic (products, saturating sums) against int64 and plain
+// integer arithmetic on the chip itself (test/avr/fixed_products_avr.cpp).
+TEST(AvrKinematics, HandWrittenArithmeticMatchesIntegerReference) {
+  const std::string out = run(std::string(AVR_RUN) + " " + PRODUCTS_ELF);
+  EXPECT_NE(out.find("mismatches 0\n"), std::string::npos) << out;
+}
+
 }  // namespace
