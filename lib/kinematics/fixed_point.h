@@ -23,8 +23,6 @@
 namespace wmra {
 namespace fx {
 
-constexpr int kUnitFracBits = 15;
-constexpr int kRealFracBits = 23;
 constexpr int32_t kUnitOne = 32767;  // the largest Unit; 1.0 itself is not representable
 
 // --- raw 16x16 -> 32 products. On the AVR they are written out with MUL/MULS/MULSU
@@ -192,14 +190,12 @@ constexpr int32_t round_to_int32(double x) { return (int32_t)(x < 0 ? x - 0.5 : 
 
 struct Unit {
   int16_t raw;
-  static constexpr Unit from_raw(int16_t r) { return Unit{r}; }
 };
 struct Length {
   uint16_t raw;
 };
 struct Real {
   int32_t raw;
-  static constexpr Real from_raw(int32_t r) { return Real{r}; }
 };
 
 constexpr int16_t saturate_unit_raw(int64_t raw) {
@@ -215,7 +211,6 @@ inline Unit unit(double x) { return Unit{saturate_unit_raw(round_to_int32(x * 32
 inline Real real(double x) { return Real{round_to_int32(x * 8388608.0)}; }
 
 constexpr double to_double(Unit u) { return u.raw / 32768.0; }
-constexpr double to_double(Length l) { return l.raw / 65536.0; }
 constexpr double to_double(Real r) { return r.raw / 8388608.0; }
 
 // --- Unit arithmetic
@@ -299,9 +294,6 @@ inline Unit operator*(Unit a, Unit b) { return Unit{(int16_t)(((int32_t)a.raw * 
 inline Real operator+(Real a, Real b) { return Real{a.raw + b.raw}; }
 inline Real operator-(Real a, Real b) { return Real{a.raw - b.raw}; }
 inline Real operator-(Real a) { return Real{-a.raw}; }
-inline Real& operator+=(Real& a, Real b) { a.raw += b.raw; return a; }
-inline Real& operator-=(Real& a, Real b) { a.raw -= b.raw; return a; }
-inline bool operator<(Real a, Real b) { return a.raw < b.raw; }
 
 // Unit * Real: Q15 * Q23 = Q38; >>16 gives Q22, one doubling gives Q23 (the lost bit is
 // 1.2e-7 of a metre or a rad/s).

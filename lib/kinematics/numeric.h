@@ -23,12 +23,8 @@ struct SinCosOf {
 
 inline float sin_of(float a) { return sinf(a); }
 inline float cos_of(float a) { return cosf(a); }
-inline float atan2_of(float y, float x) { return atan2f(y, x); }
-inline float sqrt_of(float x) { return sqrtf(x); }
 inline double sin_of(double a) { return ::sin(a); }
 inline double cos_of(double a) { return ::cos(a); }
-inline double atan2_of(double y, double x) { return ::atan2(y, x); }
-inline double sqrt_of(double x) { return ::sqrt(x); }
 
 template <class T>
 struct Floating {
