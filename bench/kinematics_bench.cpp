@@ -2,6 +2,7 @@
 // Every measured call goes through a noinline wrapper, so the region markers bracket
 // exactly the call (its call overhead included) and nothing the compiler moved.
 #include "kinematics/inverse_jacobian.h"
+#include "kinematics/inverse_kinematics.h"
 #include "kinematics_vectors.h"
 #include "probe.h"
 
@@ -28,6 +29,7 @@ enum Region : uint8_t {
   kMulRealRecip,
   kReciprocal,
   kSinCos,
+  kIkFixed,
 };
 
 kin::JointAngles<Fixed> q_fixed[kPoses];
@@ -59,6 +61,9 @@ __attribute__((noinline)) kin::JacobianInverse<Fixed> jinv_fixed(const kin::Join
 __attribute__((noinline)) kin::JacobianInverse<Fixed> jinv_core_fixed(const kin::ArmTrig<Fixed>& trig,
                                                                       const kin::Twist<Fixed>& t) {
   return kin::inverse_jacobian<Fixed>(trig, t);
+}
+__attribute__((noinline)) kin::IkSolutions<Fixed> ik_fixed(const kin::Pose<Fixed>& pose) {
+  return kin::inverse_kinematics<Fixed>(pose);
 }
 __attribute__((noinline)) kin::ArmTrig<Float> trig_float(const kin::JointAngles<Float>& q) {
   return kin::arm_trig<Float>(q);
@@ -107,6 +112,7 @@ int main() {
   probe::name_region(kMulRealRecip, "op_real_x_recip");
   probe::name_region(kReciprocal, "op_reciprocal");
   probe::name_region(kSinCos, "op_sincos");
+  probe::name_region(kIkFixed, "ik_fixed");
   make_inputs();
 
   for (int i = 0; i < kPoses; ++i) {
@@ -125,7 +131,10 @@ int main() {
     probe::start(kJinvCoreFixed);
     const auto jcf = jinv_core_fixed(tf, twist_fixed[i]);
     probe::stop(kJinvCoreFixed);
-    sink_fixed = pf.p_m.x.raw + jf.qd_rad_s[2].raw + jcf.qd_rad_s[3].raw;
+    probe::start(kIkFixed);
+    const auto ikf = ik_fixed(pf);
+    probe::stop(kIkFixed);
+    sink_fixed = pf.p_m.x.raw + jf.qd_rad_s[2].raw + jcf.qd_rad_s[3].raw + ikf.count;
 
     probe::start(kTrigFloat);
     const auto tl = trig_float(q_float[i]);

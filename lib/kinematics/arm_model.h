@@ -45,6 +45,11 @@ struct SingularBands {
 };
 constexpr SingularBands kSingularBands = {{5, 100}, {5, 100}, {5, 100}, {20, 100}, {20, 100}, {15, 100}};
 
+// Inverse kinematics calls a pose degenerate (a free joint, infinitely many solutions) when
+// the joint-5 origin is within this many metres of the base axis or |cos q5| is below it:
+// one step of a Q15 Unit, so the fixed-point code only flags exact zeros of its inputs.
+constexpr Ratio kIkDegenerate{1, 50000};
+
 // The wrist reaches at most this far from the base axis, so R5 always fits a Unit.
 constexpr double max_r5_m = a1_m + a2_m + a3_m + a4_m;
 static_assert(max_r5_m < 1.0, "R5 is carried as a Q15 Unit and must stay below 1 m");

@@ -294,6 +294,8 @@ inline Unit operator*(Unit a, Unit b) { return Unit{(int16_t)(((int32_t)a.raw * 
 inline Real operator+(Real a, Real b) { return Real{a.raw + b.raw}; }
 inline Real operator-(Real a, Real b) { return Real{a.raw - b.raw}; }
 inline Real operator-(Real a) { return Real{-a.raw}; }
+inline bool operator<(Real a, Real b) { return a.raw < b.raw; }
+inline bool operator>(Real a, Real b) { return a.raw > b.raw; }
 
 // Unit * Real: Q15 * Q23 = Q38; >>16 gives Q22, one doubling gives Q23 (the lost bit is
 // 1.2e-7 of a metre or a rad/s).

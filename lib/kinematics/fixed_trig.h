@@ -25,6 +25,13 @@ constexpr double to_radians(Angle a) { return a.raw * (2.0 * kPi / kAngleTurn); 
 inline Angle operator+(Angle a, Angle b) { return Angle{a.raw + b.raw}; }
 inline Angle operator-(Angle a, Angle b) { return Angle{a.raw - b.raw}; }
 inline Angle operator-(Angle a) { return Angle{-a.raw}; }
+inline bool operator<(Angle a, Angle b) { return a.raw < b.raw; }
+inline bool operator>(Angle a, Angle b) { return a.raw > b.raw; }
+// the same direction in (-pi, pi]: the low 18 bits, sign-extended
+inline Angle wrap(Angle a) {
+  const int32_t r = a.raw & (kAngleTurn - 1);
+  return Angle{r > kAngleTurn / 2 ? r - kAngleTurn : r};
+}
 
 struct SinCos {
   Unit s;
@@ -196,6 +203,24 @@ inline uint16_t isqrt32(uint32_t v) {
     bit >>= 2;
   }
   return (uint16_t)root;
+}
+
+// sqrt(v) rounded to nearest, for v < 2^32 - 2^16
+inline uint16_t isqrt32_rounded(uint32_t v) {
+  const uint16_t r = isqrt32(v);
+  return v - mul_uu(r, r) > r ? (uint16_t)(r + 1) : r;
+}
+
+// sqrt(a^2 + b^2) of two Units, saturated at 32767: the length of a vector of direction cosines
+inline Unit hypot(Unit a, Unit b) {
+  const uint16_t r = isqrt32_rounded((uint32_t)mul_ss(a.raw, a.raw) + (uint32_t)mul_ss(b.raw, b.raw));
+  return Unit{(int16_t)(r > kUnitOne ? kUnitOne : r)};
+}
+
+// sqrt(1 - c^2) in Q15: a sine from its cosine, >= 0
+inline Unit sqrt_one_minus_square(Unit c) {
+  const uint16_t r = isqrt32_rounded(((uint32_t)1 << 30) - (uint32_t)mul_ss(c.raw, c.raw));
+  return Unit{(int16_t)(r > kUnitOne ? kUnitOne : r)};
 }
 
 }  // namespace fx

@@ -23,8 +23,14 @@ struct SinCosOf {
 
 inline float sin_of(float a) { return sinf(a); }
 inline float cos_of(float a) { return cosf(a); }
+inline float atan2_of(float y, float x) { return atan2f(y, x); }
+inline float sqrt_of(float a) { return sqrtf(a); }
+inline float fmod_of(float a, float b) { return fmodf(a, b); }
 inline double sin_of(double a) { return ::sin(a); }
 inline double cos_of(double a) { return ::cos(a); }
+inline double atan2_of(double y, double x) { return ::atan2(y, x); }
+inline double sqrt_of(double a) { return ::sqrt(a); }
+inline double fmod_of(double a, double b) { return ::fmod(a, b); }
 
 template <class T>
 struct Floating {
@@ -43,9 +49,20 @@ struct Floating {
   static constexpr Real real(Ratio x) { return (T)wmra::to_double(x); }
   static constexpr Recip recip_constant(Ratio c) { return (T)(1.0 / wmra::to_double(c)); }
   static constexpr Band band(Ratio eps) { return Band{(T)wmra::to_double(eps)}; }
+  static constexpr Angle angle_deg(Ratio degrees) { return (T)(wmra::to_double(degrees) * (fx::kPi / 180)); }
+  static constexpr Angle half_turn() { return (T)fx::kPi; }
+  static constexpr Angle full_turn() { return (T)(2 * fx::kPi); }
 
   static SinCos sincos(Angle a) { return SinCos{sin_of(a), cos_of(a)}; }
   static Unit sin(Angle a) { return sin_of(a); }
+  static Angle atan2(T y, T x) { return atan2_of(y, x); }
+  // the angle in (-pi, pi]
+  static Angle wrap(Angle a) {
+    a = fmod_of(a, full_turn());
+    return a <= -half_turn() ? a + full_turn() : a > half_turn() ? a - full_turn() : a;
+  }
+  static Unit hypot(Unit a, Unit b) { return sqrt_of(a * a + b * b); }
+  static Unit sqrt_one_minus_square(Unit c) { return c * c < 1 ? sqrt_of(1 - c * c) : 0; }
   static Unit to_unit(Real r) { return r; }
   static Real to_real(Unit u) { return u; }
   static T abs(T x) { return x < 0 ? -x : x; }
@@ -75,8 +92,18 @@ struct Fixed {
     return Band{fx::unit(eps), fx::recip_constant(Ratio{(int64_t)fx::unit(eps).raw * fx::unit(eps).raw, 32768ll * 32768})};
   }
 
+  static constexpr Angle angle_deg(Ratio degrees) { return fx::angle_deg(degrees); }
+  static constexpr Angle half_turn() { return Angle{fx::kAngleTurn / 2}; }
+  static constexpr Angle full_turn() { return Angle{fx::kAngleTurn}; }
+
   static SinCos sincos(Angle a) { return fx::sincos(a); }
   static Unit sin(Angle a) { return fx::sin(a); }
+  static Angle atan2(Unit y, Unit x) { return fx::atan2(y.raw, x.raw); }
+  static Angle atan2(Real y, Real x) { return fx::atan2(y.raw, x.raw); }
+  static Angle wrap(Angle a) { return fx::wrap(a); }
+  static Angle abs(Angle a) { return Angle{a.raw < 0 ? -a.raw : a.raw}; }
+  static Unit hypot(Unit a, Unit b) { return fx::hypot(a, b); }
+  static Unit sqrt_one_minus_square(Unit c) { return fx::sqrt_one_minus_square(c); }
   static Unit to_unit(Real r) { return fx::to_unit(r); }
   static Real to_real(Unit u) { return fx::to_real(u); }
   static Recip damped_reciprocal(Unit x, Band b) { return fx::damped_reciprocal(x, b.eps, b.inv_eps2); }

@@ -6,6 +6,7 @@
 #include <stdint.h>
 
 #include "kinematics/inverse_jacobian.h"
+#include "kinematics/inverse_kinematics.h"
 
 namespace wmra {
 namespace vectors {
@@ -43,8 +44,9 @@ inline kin::Twist<Fixed> random_twist(Lcg& rng) {
   return t;
 }
 
-// One line per case: "F" pose (p as 3 x 8 hex digits, R as 9 x 4) and
-// "J" joint velocities (6 x 8), det (8) and status (1). put(char) is the sink.
+// One line per case: "F" pose (p as 3 x 8 hex digits, R as 9 x 4),
+// "J" joint velocities (6 x 8), det (8) and status (1), and "I" the inverse kinematics of
+// that pose: status (1), count (1) and each solution's angles (6 x 8). put(char) is the sink.
 template <class Put>
 void hex(Put& put, uint32_t v, uint8_t digits) {
   for (int8_t i = (int8_t)(digits - 1); i >= 0; --i) {
@@ -69,6 +71,13 @@ void emit_case(Put& put, const kin::JointAngles<Fixed>& q, const kin::Twist<Fixe
   for (int i = 0; i < arm::kJoints; ++i) hex(put, (uint32_t)inv.qd_rad_s[i].raw, 8);
   hex(put, (uint32_t)kin::determinant<Fixed>(inv.factors).raw, 8);
   put((char)('0' + (int)inv.status));
+  put(' ');
+  const auto ik = kin::inverse_kinematics<Fixed>(pose);
+  put('I');
+  put((char)('0' + (int)ik.status));
+  hex(put, (uint32_t)ik.count, 1);
+  for (int k = 0; k < ik.count; ++k)
+    for (int j = 0; j < arm::kJoints; ++j) hex(put, (uint32_t)ik.q[k].q[j].raw, 8);
   put('\n');
 }
 

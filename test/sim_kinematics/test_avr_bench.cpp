@@ -52,4 +52,12 @@ TEST_F(AvrBench, FixedForwardKinematicsWithinBudget) {
   EXPECT_LE(fk.max, 2500);
 }
 
+// SPEC section 8: inverse kinematics, all branches, <= 15,000 cycles (worst case over the set)
+TEST_F(AvrBench, FixedInverseKinematicsWithinBudget) {
+  const Timing ik = get("ik_fixed");
+  ASSERT_GT(ik.max, 0);
+  RecordProperty("ik_fixed_max_cycles", std::to_string(ik.max));
+  EXPECT_LE(ik.max, 15000);
+}
+
 }  // namespace

@@ -31,6 +31,10 @@ namespace {
 // which the fixed-point inverse is proven not to overflow
 constexpr double kMaxLinear_m_s = 4.0;
 constexpr double kMaxAngular_rad_s = 16.0;
+// IK targets: positions beyond this are far out of reach (and outside the fixed-point range
+// where rounding is harmless); a rotation matrix must be orthonormal to this tolerance
+constexpr double kMaxPosition_m = 4.0;
+constexpr double kRotationTolerance = 1e-4;
 
 struct BadInput {
   std::string message;
@@ -97,6 +101,7 @@ kin::JointAngles<Fixed> joints_fixed(const std::vector<double>& q) {
   return j;
 }
 double out(double v) { return v; }
+double out(fx::Angle v) { return fx::to_radians(v); }
 double out(fx::Real v) { return fx::to_double(v); }
 double out(fx::Unit v) { return fx::to_double(v); }
 
@@ -118,13 +123,55 @@ std::string jinv(const kin::JointAngles<N>& q, const kin::Twist<N>& twist) {
          kin::to_string(inv.status) + "\"}";
 }
 
-std::string ik(const std::vector<double>& x) {
+// the target pose: a position within reach of the numbers and an orthonormal rotation
+void check_target(const std::vector<double>& x) {
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(x[i]) > kMaxPosition_m) {
+      throw BadInput{"ik: position component " + number(x[i]) + " m exceeds " + number(kMaxPosition_m) + " m"};
+    }
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      double dot = 0;
+      for (int k = 0; k < 3; ++k) dot += x[3 + 3 * i + k] * x[3 + 3 * j + k];
+      if (std::abs(dot - (i == j ? 1.0 : 0.0)) > kRotationTolerance) {
+        throw BadInput{"ik: R11..R33 is not a rotation matrix (rows " + std::to_string(i + 1) + " and " +
+                       std::to_string(j + 1) + " have dot product " + number(dot) + ")"};
+      }
+    }
+  }
+}
+
+kin::Pose<D> pose_double(const std::vector<double>& x) {
   kin::Pose<D> target;
   target.p_m = {x[0], x[1], x[2]};
   for (int i = 0; i < 9; ++i) target.R[i / 3][i % 3] = x[3 + i];
-  const auto sols = kin::inverse_kinematics<D>(target);
+  return target;
+}
+kin::Pose<Fixed> pose_fixed(const std::vector<double>& x) {
+  kin::Pose<Fixed> target;
+  target.p_m = {fx::real(x[0]), fx::real(x[1]), fx::real(x[2])};
+  for (int i = 0; i < 9; ++i) target.R[i / 3][i % 3] = fx::unit(x[3 + i]);
+  return target;
+}
+
+// Poses without a solution give an empty list (the interface has no status field); why
+// there is none goes to stderr.
+template <class N>
+std::string ik(const kin::Pose<N>& target) {
+  const auto sols = kin::inverse_kinematics<N>(target);
+  if (sols.status == kin::IkStatus::degenerate) {
+    std::fprintf(stderr, "armkin: ik: degenerate pose (wrist point on the base axis or cos q5 = 0): "
+                         "infinitely many solutions, none listed\n");
+  } else if (sols.status == kin::IkStatus::unreachable) {
+    std::fprintf(stderr, "armkin: ik: no solution within the joint limits\n");
+  }
   std::string s = "{\"solutions\":[";
-  for (int k = 0; k < sols.count; ++k) s += (k ? "," : "") + json_list(sols.q[k].q, 6);
+  for (int k = 0; k < sols.count; ++k) {
+    double q[6];
+    for (int j = 0; j < 6; ++j) q[j] = out(sols.q[k].q[j]);
+    s += (k ? "," : "") + json_list(q, 6);
+  }
   return s + "]}";
 }
 
@@ -156,8 +203,8 @@ std::string run_command(const std::vector<std::string>& words, bool fixed) {
   }
   if (cmd == "ik") {
     const auto x = parse_numbers(args, 12, cmd, "X Y Z in m and R11..R33 row by row");
-    if (fixed) throw BadInput{"ik: the fixed-point inverse kinematics is not built yet; run without --fixed"};
-    return ik(x);
+    check_target(x);
+    return fixed ? ik<Fixed>(pose_fixed(x)) : ik<D>(pose_double(x));
   }
   throw BadInput{"unknown command '" + cmd + "' (fk, jinv or ik)"};
 }
