@@ -72,6 +72,25 @@ inline Recip reciprocal(Unit x) {
   return Recip{half_reciprocal_uq16(magnitude), s, x.raw < 0};
 }
 
+// 1/x for a Real x > 0. Shifting the raw value left by n into [2^31, 2^32) gives
+// x = m 2^(9-n) with m in [0.5, 1), so 1/x = (1/2m) 2^(n-8); for x >= 2 (n < 8) the
+// mantissa is shifted down instead, as a Recip's shift is not negative.
+inline Recip reciprocal(Real x) {
+  uint32_t v = (uint32_t)x.raw;
+  uint8_t n = 0;
+  while (!(v & 0xFF000000u)) {
+    v <<= 8;
+    n += 8;
+  }
+  while (!(v & 0x80000000u)) {
+    v <<= 1;
+    ++n;
+  }
+  const uint16_t mantissa = half_reciprocal_uq16(hi16(v));
+  if (n >= 8) return Recip{mantissa, (uint8_t)(n - 8), false};
+  return Recip{(uint16_t)(mantissa >> (8 - n)), 0, false};
+}
+
 // Real * Recip, saturated at +-kRecipProductLimit. Only products through a damped
 // reciprocal, with a large twist and two singular factors at once, come near it; the
 // saturation keeps later sums of a few such terms far inside the Real range (+-256).

@@ -1,0 +1,41 @@
+// Motion limits of the arm: hand speeds, joint speeds and the soft joint limits.
+// Every number carries its unit in its name; changing one is an edit here and a rebuild.
+// Joint speeds are what the joint, its gear and the person next to it can take, well below
+// what the drives can do (J1 2,037 steps/rad, J5 10,186, J6 1,019 at 1/32 microstep: at
+// 20 kHz that is 9.8, 1.96 and 19.6 rad/s).
+#pragma once
+
+#include <stdint.h>
+
+#include "kinematics/ratio.h"
+
+namespace wmra {
+namespace config {
+
+// full stick deflection (SPEC section 5)
+constexpr Ratio kMaxHandSpeed_m_s{15, 100};
+constexpr Ratio kMaxWristSpeed_rad_s{80, 100};
+
+// joint speed limits J1..J6, in hundredths of a rad/s
+constexpr int16_t kJointSpeedLimit_crad_s[6] = {60, 50, 60, 100, 150, 150};
+
+// Soft joint limits: a joint stops this far inside its switch, and slows down linearly over
+// the zone before that; motion away from the limit is never slowed.
+constexpr int16_t kSoftLimitMargin_deg = 3;
+constexpr int16_t kSoftLimitZone_deg = 12;
+
+static_assert(kMaxHandSpeed_m_s.num > 0 && kMaxHandSpeed_m_s.num * 100 <= 30 * kMaxHandSpeed_m_s.den,
+              "hand speed in (0, 0.3] m/s");
+static_assert(kMaxWristSpeed_rad_s.num > 0 && kMaxWristSpeed_rad_s.num <= 2 * kMaxWristSpeed_rad_s.den,
+              "wrist speed in (0, 2] rad/s");
+constexpr bool joint_speeds_in_range() {
+  for (int j = 0; j < 6; ++j)
+    if (kJointSpeedLimit_crad_s[j] <= 0 || kJointSpeedLimit_crad_s[j] > 300) return false;
+  return true;
+}
+static_assert(joint_speeds_in_range(), "joint speed limits in (0, 3] rad/s");
+static_assert(kSoftLimitMargin_deg >= 1 && kSoftLimitMargin_deg <= 10, "soft-limit margin in [1, 10] deg");
+static_assert(kSoftLimitZone_deg >= 2 && kSoftLimitZone_deg <= 30, "soft-limit zone in [2, 30] deg");
+
+}  // namespace config
+}  // namespace wmra

@@ -1,0 +1,160 @@
+// Resolved-rate motion: the joint velocities that move the hand along the commanded twist,
+// scaled down, all by one factor, wherever a joint or the arm's geometry asks for it.
+//
+//   1. qd = J^-1(q) twist, the closed form of inverse_jacobian.h (damped inside the
+//      singular bands, so qd stays bounded there).
+//   2. Singularity slow-down. For each factor of det J (c5, s3, R5) inside its slow band and
+//      moving towards zero (sign(f) df/dt < 0), the motion may go at most the fraction
+//      (|f| - damp) / (slow - damp) of its speed: 1 at the edge of the slow band, 0 at the
+//      edge of the damped band. Motion that takes f away from zero is not slowed, so the arm
+//      can always be driven back out, and it stops before the damped band, where the
+//      inverse is no longer exact. df/dt comes from qd itself:
+//        d c5/dt = -s5 qd5,   d s3/dt = c3 qd3,
+//        d R5/dt = -(s2 a2 qd2 + s23 a3 (qd2 + qd3) + s234 a4 (qd2 + qd3 + qd4)).
+//   3. Soft joint limits. A joint moving towards a limit may go at its speed limit times
+//      (distance to its soft stop) / zone, 0 at the stop, which lies a margin inside the switch.
+//   4. Joint speed limits. Every |s qd_j| <= allowed_j.
+// One common factor s satisfies all of them, so the hand keeps its direction (SPEC section 5);
+// s only shrinks, and a joint that needs a division (1/|qd_j| from a table reciprocal) is
+// only one that s does not already satisfy.
+#pragma once
+
+#include "config/motion_config.h"
+#include "kinematics/inverse_jacobian.h"
+#include "kinematics/inverse_kinematics.h"
+
+namespace wmra {
+namespace core {
+
+using kin::Fixed;
+
+// why the motion was slowed (bits, for telemetry)
+enum SlowReason : uint8_t {
+  kSlowSingular = 1,
+  kSlowSoftLimit = 2,
+  kSlowJointSpeed = 4,
+};
+
+struct JointRates {
+  fx::Real qd_rad_s[arm::kJoints];
+  fx::Unit scale;  // the common factor s applied to J^-1 twist, in [0, 1]
+  kin::SingularStatus status;
+  uint8_t slowed_by;  // SlowReason bits
+};
+
+struct MotionLimits {
+  fx::Real joint_speed_rad_s[arm::kJoints];
+  fx::Angle soft_min[arm::kJoints];
+  fx::Angle soft_max[arm::kJoints];
+};
+
+constexpr MotionLimits motion_limits() {
+  using L = kin::JointLimits<Fixed>;
+  return MotionLimits{
+      {fx::real(Ratio{config::kJointSpeedLimit_crad_s[0], 100}), fx::real(Ratio{config::kJointSpeedLimit_crad_s[1], 100}),
+       fx::real(Ratio{config::kJointSpeedLimit_crad_s[2], 100}), fx::real(Ratio{config::kJointSpeedLimit_crad_s[3], 100}),
+       fx::real(Ratio{config::kJointSpeedLimit_crad_s[4], 100}), fx::real(Ratio{config::kJointSpeedLimit_crad_s[5], 100})},
+      {fx::Angle{L::min[0].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+       fx::Angle{L::min[1].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+       fx::Angle{L::min[2].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+       fx::Angle{L::min[3].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+       fx::Angle{L::min[4].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+       fx::Angle{L::min[5].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw}},
+      {fx::Angle{L::max[0].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+       fx::Angle{L::max[1].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+       fx::Angle{L::max[2].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+       fx::Angle{L::max[3].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+       fx::Angle{L::max[4].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+       fx::Angle{L::max[5].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw}}};
+}
+
+// clamp a Real to [0, 1] as a Unit
+inline fx::Unit fraction(fx::Real r) {
+  return r.raw <= 0 ? fx::Unit{0} : r.raw >= (fx::kUnitOne << 8) ? fx::Unit{(int16_t)fx::kUnitOne} : fx::to_unit(r);
+}
+
+inline bool moving_towards_zero(fx::Unit f, fx::Real rate) { return rate.raw != 0 && (f.raw < 0) != (rate.raw < 0); }
+
+inline fx::Unit smaller(fx::Unit a, fx::Unit b) { return a.raw < b.raw ? a : b; }
+
+inline int16_t magnitude(fx::Unit u) { return u.raw < 0 ? (int16_t)-u.raw : u.raw; }
+
+// (|f| - damp) / (slow - damp) in [0, 1]
+template <int32_t kDampRaw, int32_t kSlowRaw>
+fx::Unit singular_fraction(fx::Unit f) {
+  static constexpr fx::Real kInvWidth = fx::real(Ratio{32768, kSlowRaw - kDampRaw});
+  return fraction(fx::Unit{(int16_t)(magnitude(f) - kDampRaw)} * kInvWidth);
+}
+
+// the largest s in [0, 1] with s |qd| <= allowed, given the current s. The quotient is
+// rounded down by two steps, more than the error of the table reciprocal and of the
+// product, so the limit holds exactly rather than to within rounding.
+inline fx::Unit limit_scale(fx::Unit s, fx::Real qd, fx::Real allowed) {
+  const fx::Real speed{qd.raw < 0 ? -qd.raw : qd.raw};
+  if (speed.raw == 0 || !(allowed < s * speed)) return s;
+  const fx::Unit quotient = fraction(allowed * fx::reciprocal(speed));
+  return fx::Unit{(int16_t)(quotient.raw > 2 ? quotient.raw - 2 : 0)};
+}
+
+template <class Trig>
+JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::Twist<Fixed>& twist,
+                         const MotionLimits& limits) {
+  static constexpr fx::Unit kA2 = fx::unit(arm::a2), kA3 = fx::unit(arm::a3), kA4 = fx::unit(arm::a4);
+  static constexpr int32_t kZoneCounts = fx::angle_deg(Ratio{config::kSoftLimitZone_deg, 1}).raw;
+  static constexpr fx::Real kInvZone = fx::real(Ratio{1, kZoneCounts});  // per angle count
+  static constexpr int32_t kDampC5 = fx::unit(arm::kSingularBands.damp_c5).raw;
+  static constexpr int32_t kSlowC5 = fx::unit(arm::kSingularBands.slow_c5).raw;
+  static constexpr int32_t kDampS3 = fx::unit(arm::kSingularBands.damp_s3).raw;
+  static constexpr int32_t kSlowS3 = fx::unit(arm::kSingularBands.slow_s3).raw;
+  static constexpr int32_t kDampR5 = fx::unit(arm::kSingularBands.damp_r5_m).raw;
+  static constexpr int32_t kSlowR5 = fx::unit(arm::kSingularBands.slow_r5_m).raw;
+
+  const auto inv = kin::inverse_jacobian<Fixed>(t, twist);
+  const fx::Real* qd = inv.qd_rad_s;
+  const auto& f = inv.factors;
+  JointRates out;
+  out.status = inv.status;
+  out.slowed_by = 0;
+  fx::Unit s{(int16_t)fx::kUnitOne};
+
+  // 2. singular factors moving towards zero
+  const fx::Real qd23 = qd[1] + qd[2];
+  const fx::Real c5_rate = -(t.s5 * qd[4]);
+  const fx::Real s3_rate = fx::sincos(q.q[2]).c * qd[2];
+  const fx::Real r5_rate = -((t.s2 * kA2) * qd[1] + (t.s23 * kA3) * qd23 + (t.s234 * kA4) * (qd23 + qd[3]));
+  fx::Unit singular = s;
+  if (magnitude(f.c5) < kSlowC5 && moving_towards_zero(f.c5, c5_rate)) {
+    singular = smaller(singular, singular_fraction<kDampC5, kSlowC5>(f.c5));
+  }
+  if (magnitude(f.s3) < kSlowS3 && moving_towards_zero(f.s3, s3_rate)) {
+    singular = smaller(singular, singular_fraction<kDampS3, kSlowS3>(f.s3));
+  }
+  if (magnitude(f.r5) < kSlowR5 && moving_towards_zero(f.r5, r5_rate)) {
+    singular = smaller(singular, singular_fraction<kDampR5, kSlowR5>(f.r5));
+  }
+  if (singular.raw < s.raw) {
+    s = singular;
+    out.slowed_by |= kSlowSingular;
+  }
+
+  // 3. and 4. soft joint limits and joint speed limits
+  for (uint8_t j = 0; j < arm::kJoints; ++j) {
+    fx::Real allowed = limits.joint_speed_rad_s[j];
+    if (qd[j].raw != 0) {
+      const int32_t distance = qd[j].raw > 0 ? limits.soft_max[j].raw - q.q[j].raw : q.q[j].raw - limits.soft_min[j].raw;
+      if (distance < kZoneCounts) {
+        allowed = fraction(fx::Real{distance * kInvZone.raw}) * allowed;
+      }
+    }
+    const fx::Unit before = s;
+    s = limit_scale(s, qd[j], allowed);
+    if (s.raw < before.raw) out.slowed_by |= allowed < limits.joint_speed_rad_s[j] ? kSlowSoftLimit : kSlowJointSpeed;
+  }
+
+  out.scale = s;
+  for (uint8_t j = 0; j < arm::kJoints; ++j) out.qd_rad_s[j] = s * qd[j];
+  return out;
+}
+
+}  // namespace core
+}  // namespace wmra

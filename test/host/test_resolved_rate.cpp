@@ -1,0 +1,162 @@
+// The firmware's resolved-rate core (firmware/core/resolved_rate.h) and the wrist axes that
+// the rotation modes use: one common scale that keeps the hand's direction, joint speeds
+// within their limits, the slow-down towards a singular factor that still lets the arm
+// back out, and soft joint limits.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "core/resolved_rate.h"
+#include "eigen_reference.h"
+#include "kinematics/wrist_frame.h"
+
+using namespace wmra;
+using kin::Fixed;
+using D = kin::Floating<double>;
+
+namespace {
+
+constexpr core::MotionLimits kLimits = core::motion_limits();
+
+kin::JointAngles<Fixed> to_fixed(const ref::Joints& q) {
+  kin::JointAngles<Fixed> a;
+  for (int i = 0; i < 6; ++i) a.q[i] = fx::angle(q[i]);
+  return a;
+}
+
+kin::Twist<Fixed> twist(double vx, double vy, double vz, double wx, double wy, double wz) {
+  return {{fx::real(vx), fx::real(vy), fx::real(vz)}, {fx::real(wx), fx::real(wy), fx::real(wz)}};
+}
+
+core::JointRates rates(const ref::Joints& q, const kin::Twist<Fixed>& t) {
+  const auto qf = to_fixed(q);
+  return core::resolved_rate(qf, kin::arm_trig<Fixed>(qf), t, kLimits);
+}
+
+double limit_rad_s(int j) { return config::kJointSpeedLimit_crad_s[j] / 100.0; }
+
+TEST(WristAxes, MatchTheDhFrameFive) {
+  std::mt19937_64 rng(31);
+  double worst_double = 0, worst_fixed = 0;
+  for (int n = 0; n < 2000; ++n) {
+    const auto q = ref::random_joints(rng);
+    const Eigen::Matrix3d r5 = ref::frames(q)[4].block<3, 3>(0, 0);
+    kin::JointAngles<D> qd;
+    for (int j = 0; j < 6; ++j) qd.q[j] = q[j];
+    const auto a = kin::wrist_axes<D>(kin::arm_trig<D>(qd));
+    const auto f = kin::wrist_axes<Fixed>(kin::arm_trig<Fixed>(to_fixed(q)));
+    const kin::Vec3<double> axes[3] = {a.x5, a.y5, a.z5};
+    const kin::Vec3<fx::Unit> axes_fixed[3] = {f.x5, f.y5, f.z5};
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d expected = r5.col(c);
+      worst_double = std::max(worst_double, (Eigen::Vector3d(axes[c].x, axes[c].y, axes[c].z) - expected).norm());
+      const Eigen::Vector3d fixed(fx::to_double(axes_fixed[c].x), fx::to_double(axes_fixed[c].y),
+                                  fx::to_double(axes_fixed[c].z));
+      worst_fixed = std::max(worst_fixed, (fixed - expected).norm());
+    }
+  }
+  std::printf("wrist axes vs DH frame 5: double %.1e, fixed %.1e\n", worst_double, worst_fixed);
+  EXPECT_LT(worst_double, 1e-12);
+  EXPECT_LT(worst_fixed, 2e-4);
+}
+
+// Far from singular poses and limits, at hand speed, nothing is slowed: the output is J^-1 twist.
+TEST(ResolvedRate, UnscaledAtHandSpeedInTheOpen) {
+  const ref::Joints q = {0.2, 0.6, 1.0, -0.4, 0.5, 0.3};
+  const auto t = twist(0.15, 0, 0, 0, 0, 0);
+  const auto r = rates(q, t);
+  const auto inv = kin::inverse_jacobian<Fixed>(to_fixed(q), t);
+  EXPECT_EQ(r.slowed_by, 0);
+  EXPECT_EQ(r.status, kin::SingularStatus::ok);
+  for (int j = 0; j < 6; ++j) EXPECT_NEAR(fx::to_double(r.qd_rad_s[j]), fx::to_double(inv.qd_rad_s[j]), 1e-4);
+}
+
+// Random poses and large twists: every joint within its speed limit (and soft limit), and
+// the output parallel to J^-1 twist, so the hand keeps its direction.
+TEST(ResolvedRate, OneCommonScaleKeepsDirectionAndLimits) {
+  std::mt19937_64 rng(32);
+  std::uniform_real_distribution<double> v(-0.6, 0.6), w(-3, 3);
+  double worst_over = 0, worst_angle = 0;
+  int scaled = 0;
+  for (int n = 0; n < 5000; ++n) {
+    const auto q = ref::random_joints(rng);
+    const auto t = twist(v(rng), v(rng), v(rng), w(rng), w(rng), w(rng));
+    const auto r = rates(q, t);
+    const auto inv = kin::inverse_jacobian<Fixed>(to_fixed(q), t);
+    ref::Vec6 out, raw;
+    for (int j = 0; j < 6; ++j) {
+      out[j] = fx::to_double(r.qd_rad_s[j]);
+      raw[j] = fx::to_double(inv.qd_rad_s[j]);
+      worst_over = std::max(worst_over, std::abs(out[j]) - limit_rad_s(j));
+    }
+    if (out.norm() > 1e-3) {
+      worst_angle = std::max(worst_angle, std::acos(std::min(1.0, out.dot(raw) / (out.norm() * raw.norm()))));
+    }
+    scaled += r.scale.raw < fx::kUnitOne;
+  }
+  std::printf("resolved rate over 5000 poses: %d scaled, worst excess over a joint limit %.2e rad/s, "
+              "worst angle to J^-1 twist %.2e rad\n",
+              scaled, worst_over, worst_angle);
+  EXPECT_GT(scaled, 1000);
+  EXPECT_LE(worst_over, 0.0);
+  EXPECT_LT(worst_angle, 1e-3);
+}
+
+// Stretching the elbow (q3 -> 0) by pulling the hand outwards, slowly enough that no joint
+// reaches its speed limit: the speed falls as (|s3| - damp) / (slow - damp), to zero at the
+// edge of the damped band; joint speeds stay within their limits, and the opposite command
+// is never slowed by the singularity.
+TEST(ResolvedRate, SlowsTowardsTheElbowSingularityAndLetsTheArmBackOut) {
+  double previous_scale = 1.0;
+  for (double q3 = 0.6; q3 > 0.0; q3 -= 0.005) {
+    const ref::Joints q = {0.0, 0.3, q3, -0.3 - q3, 0.0, 0.0};
+    // the hand moving outwards along the line from the shoulder: d/dt of the reach
+    const Eigen::Vector3d p = ref::fk(q).block<3, 1>(0, 3);
+    const Eigen::Vector3d shoulder(arm::a1_m, 0, arm::d1_m);
+    const Eigen::Vector3d out_dir = (p - shoulder).normalized() * 0.02;
+    const auto outwards = rates(q, twist(out_dir.x(), out_dir.y(), out_dir.z(), 0, 0, 0));
+    const auto inwards = rates(q, twist(-out_dir.x(), -out_dir.y(), -out_dir.z(), 0, 0, 0));
+    const double s = fx::to_double(outwards.scale);
+    const double sin3 = std::sin(q3);
+    EXPECT_EQ(outwards.slowed_by & ~core::kSlowSingular, 0) << q3;
+    if (sin3 >= to_double(arm::kSingularBands.slow_s3)) {
+      EXPECT_EQ(outwards.slowed_by & core::kSlowSingular, 0) << q3;
+    } else {
+      EXPECT_LE(s, previous_scale + 1e-4) << q3;
+      const double expected = (sin3 - to_double(arm::kSingularBands.damp_s3)) /
+                              (to_double(arm::kSingularBands.slow_s3) - to_double(arm::kSingularBands.damp_s3));
+      EXPECT_NEAR(s, std::max(0.0, std::min(1.0, expected)), 2e-3) << q3;
+    }
+    EXPECT_EQ(inwards.slowed_by & core::kSlowSingular, 0) << q3;
+    for (int j = 0; j < 6; ++j) {
+      EXPECT_LE(std::abs(fx::to_double(outwards.qd_rad_s[j])), limit_rad_s(j) + 1e-3);
+      EXPECT_LE(std::abs(fx::to_double(inwards.qd_rad_s[j])), limit_rad_s(j) + 1e-3);
+    }
+    previous_scale = s;
+  }
+  EXPECT_LT(previous_scale, 1e-3);
+}
+
+// A joint driven towards its upper limit slows over the zone and stops at the soft stop,
+// a margin inside the switch; driven away it is not slowed.
+TEST(ResolvedRate, SoftJointLimitStopsBeforeTheSwitch) {
+  const double stop = arm::q_max_rad(0) - arm::deg_to_rad(config::kSoftLimitMargin_deg);
+  const double zone = arm::deg_to_rad(config::kSoftLimitZone_deg);
+  for (double q1 = stop - 1.5 * zone; q1 < stop + 0.02; q1 += 0.01) {
+    const ref::Joints q = {q1, 0.6, 1.0, -0.4, 0.5, 0.3};
+    // the hand turning with the base, w = (0, 0, w), v = w x p: joint 1 alone
+    const Eigen::Vector3d p = ref::fk(q).block<3, 1>(0, 3);
+    const auto towards = rates(q, twist(-0.3 * p.y(), 0.3 * p.x(), 0, 0, 0, 0.3));
+    const auto away = rates(q, twist(0.3 * p.y(), -0.3 * p.x(), 0, 0, 0, -0.3));
+    const double qd1 = fx::to_double(towards.qd_rad_s[0]);
+    const double allowed = limit_rad_s(0) * std::max(0.0, std::min(1.0, (stop - q1) / zone));
+    EXPECT_LE(qd1, allowed + 2e-3) << q1;
+    if (q1 >= stop) {
+      EXPECT_NEAR(qd1, 0.0, 1e-4) << q1;
+    }
+    EXPECT_EQ(away.slowed_by & core::kSlowSoftLimit, 0) << q1;
+    EXPECT_LT(fx::to_double(away.qd_rad_s[0]), -0.29) << q1;
+  }
+}
+
+}  // namespace
