@@ -17,7 +17,7 @@ constexpr Ratio kMaxHandSpeed_m_s{15, 100};
 constexpr Ratio kMaxWristSpeed_rad_s{80, 100};
 
 // joint speed limits J1..J6, in hundredths of a rad/s
-constexpr int16_t kJointSpeedLimit_crad_s[6] = {60, 50, 60, 100, 150, 150};
+constexpr int16_t kJointSpeedLimit_crad_s[6] = {80, 100, 100, 160, 150, 150};
 
 // Soft joint limits: a joint stops this far inside its switch, and slows down linearly over
 // the zone before that; motion away from the limit is never slowed.

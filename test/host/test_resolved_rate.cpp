@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "core/resolved_rate.h"
+#include "core/stick_twist.h"
 #include "eigen_reference.h"
 #include "kinematics/wrist_frame.h"
 
@@ -156,6 +157,45 @@ TEST(ResolvedRate, SoftJointLimitStopsBeforeTheSwitch) {
     }
     EXPECT_EQ(away.slowed_by & core::kSlowSoftLimit, 0) << q1;
     EXPECT_LT(fx::to_double(away.qd_rad_s[0]), -0.29) << q1;
+  }
+}
+
+// Each mode's full stick, through the resolved rate and back through the Eigen Jacobian:
+// the hand moves along the mode's axis at the configured speed, and in the rotation modes
+// the frame-6 origin stays put while the wrist turns about the frame-5 axis. (Joint speed
+// limits are lifted here: whether a pose allows full wrist speed is another question.)
+TEST(StickTwist, EveryModeMovesTheHandAsTheSpecSays) {
+  core::MotionLimits limits = kLimits;
+  for (auto& v : limits.joint_speed_rad_s) v = fx::real(10.0);
+  const ref::Joints q = {0.2, 0.6, 1.0, -0.4, 0.5, 0.3};
+  const auto qf = to_fixed(q);
+  const auto trig = kin::arm_trig<Fixed>(qf);
+  const Eigen::Matrix3d r5 = ref::frames(q)[4].block<3, 3>(0, 0);
+  const fx::Unit full{(int16_t)fx::kUnitOne}, none{0};
+  struct Case {
+    config::Mode mode;
+    core::Stick stick;
+    Eigen::Vector3d v, w;
+  };
+  const double hand = to_double(config::kMaxHandSpeed_m_s), wrist = to_double(config::kMaxWristSpeed_rad_s);
+  const Case cases[] = {
+      {config::Mode::xy, {full, none}, {hand, 0, 0}, {0, 0, 0}},
+      {config::Mode::xy, {none, full}, {0, hand, 0}, {0, 0, 0}},
+      {config::Mode::xz, {none, full}, {0, 0, hand}, {0, 0, 0}},
+      {config::Mode::r1, {full, none}, {0, 0, 0}, wrist * r5.col(1)},
+      {config::Mode::r1, {none, full}, {0, 0, 0}, wrist * r5.col(2)},
+      {config::Mode::r2, {none, full}, {0, 0, 0}, wrist * r5.col(0)},
+      {config::Mode::r2, {full, none}, {0, 0, 0}, wrist * r5.col(1)},
+      {config::Mode::gripper, {full, full}, {0, 0, 0}, {0, 0, 0}},
+  };
+  for (const auto& c : cases) {
+    const auto r = core::resolved_rate(qf, trig, core::stick_twist(c.mode, c.stick, trig), limits);
+    ASSERT_EQ(r.slowed_by, 0) << "mode " << (int)c.mode;
+    ref::Vec6 qd;
+    for (int j = 0; j < 6; ++j) qd[j] = fx::to_double(r.qd_rad_s[j]);
+    const ref::Vec6 nu = ref::geometric_jacobian(q) * qd;
+    EXPECT_LT((nu.head<3>() - c.v).norm(), 2e-4) << (int)c.mode;  // m/s
+    EXPECT_LT((nu.tail<3>() - c.w).norm(), 2e-3) << (int)c.mode;  // rad/s
   }
 }
 

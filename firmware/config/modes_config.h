@@ -1,0 +1,24 @@
+// The modes that a short press of the joystick button cycles through, and how the stick's
+// axes map to hand motion in each (SPEC section 5, seed 2). A mirrored mounting of the stick
+// is a sign change here.
+#pragma once
+
+#include <stdint.h>
+
+namespace wmra {
+namespace config {
+
+enum class Mode : uint8_t { xy, xz, r1, r2, gripper };
+
+constexpr Mode kModeCycle[] = {Mode::xy, Mode::xz, Mode::r1, Mode::r2, Mode::gripper};
+constexpr uint8_t kModeCount = sizeof(kModeCycle) / sizeof(kModeCycle[0]);
+
+// +1 or -1 per stick axis: stick +X and +Y as seen by the person
+constexpr int8_t kStickXSign = 1;
+constexpr int8_t kStickYSign = 1;
+
+static_assert(kModeCount >= 1 && kModeCount <= 8, "one to eight modes in the cycle");
+static_assert((kStickXSign == 1 || kStickXSign == -1) && (kStickYSign == 1 || kStickYSign == -1), "signs are +-1");
+
+}  // namespace config
+}  // namespace wmra
