@@ -1,0 +1,121 @@
+// The arm's top-level state machine (firmware/core/supervisor.h): start-up order, the
+// neutral-stick interlock, the latched safety stop and faults, re-arming, and the mode cycle.
+#include <gtest/gtest.h>
+
+#include "core/supervisor.h"
+
+using namespace wmra;
+using core::ArmState;
+
+namespace {
+
+core::SupervisorInputs quiet() {
+  core::SupervisorInputs in{};
+  in.stick_valid = true;
+  in.stick_neutral = true;
+  return in;
+}
+
+// run ticks of 1 ms with the same inputs
+void run(core::Supervisor& s, const core::SupervisorInputs& in, int ms) {
+  for (int i = 0; i < ms; ++i) s.update(in, 1);
+}
+
+core::Supervisor running_arm() {
+  core::Supervisor s;
+  auto in = quiet();
+  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
+  in.homed = true;
+  run(s, in, 1);
+  in.at_ready = true;
+  run(s, in, 1);
+  return s;
+}
+
+TEST(Supervisor, StartsSafeAndHomesOnlyAfterTheStickWasNeutral) {
+  core::Supervisor s;
+  EXPECT_FALSE(s.drives_enabled());
+  auto in = quiet();
+  in.stick_neutral = false;
+  run(s, in, 2000);
+  EXPECT_EQ(s.state(), ArmState::wait_neutral);
+  EXPECT_FALSE(s.drives_enabled());
+  in.stick_neutral = true;
+  run(s, in, core::Supervisor::kNeutralHold_ms - 1);
+  EXPECT_EQ(s.state(), ArmState::wait_neutral);
+  run(s, in, 2);
+  EXPECT_EQ(s.state(), ArmState::homing);
+  EXPECT_TRUE(s.drives_enabled());
+  EXPECT_FALSE(s.stick_enabled());
+  in.homed = true;
+  run(s, in, 1);
+  EXPECT_EQ(s.state(), ArmState::to_ready);
+  EXPECT_FALSE(s.stick_enabled());
+  in.at_ready = true;
+  run(s, in, 1);
+  EXPECT_EQ(s.state(), ArmState::running);
+  EXPECT_TRUE(s.stick_enabled());
+}
+
+TEST(Supervisor, AStickAtARailIsNeverNeutral) {
+  core::Supervisor s;
+  auto in = quiet();
+  in.stick_valid = false;  // reads "neutral" only because the channel is dead
+  run(s, in, 5000);
+  EXPECT_EQ(s.state(), ArmState::wait_neutral);
+}
+
+TEST(Supervisor, SafetyButtonStopsAtOnceAndStaysStoppedUntilReleasedAndRearmed) {
+  auto s = running_arm();
+  auto in = quiet();
+  in.homed = in.at_ready = true;
+  in.safety_pressed = true;
+  run(s, in, 1);
+  EXPECT_EQ(s.state(), ArmState::stopped);
+  EXPECT_FALSE(s.drives_enabled());
+  in.long_press = true;  // re-arming while pressed does nothing
+  run(s, in, 1);
+  EXPECT_EQ(s.state(), ArmState::stopped);
+  in.long_press = false;
+  in.safety_pressed = false;  // released: still stopped
+  run(s, in, 1000);
+  EXPECT_EQ(s.state(), ArmState::stopped);
+  in.long_press = true;
+  run(s, in, 1);
+  in.long_press = false;
+  EXPECT_EQ(s.state(), ArmState::wait_neutral);
+  EXPECT_FALSE(s.drives_enabled());
+  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
+  EXPECT_EQ(s.state(), ArmState::running);  // homed already: no second homing
+}
+
+TEST(Supervisor, FaultsLatchUntilClearedAndRearmed) {
+  auto s = running_arm();
+  auto in = quiet();
+  in.homed = in.at_ready = true;
+  in.faults = 0x4;
+  run(s, in, 1);
+  EXPECT_EQ(s.state(), ArmState::fault);
+  EXPECT_FALSE(s.drives_enabled());
+  in.rearm_command = true;
+  run(s, in, 10);
+  EXPECT_EQ(s.state(), ArmState::fault);  // the fault is still there
+  in.faults = 0;
+  run(s, in, 1);
+  EXPECT_EQ(s.state(), ArmState::wait_neutral);
+}
+
+TEST(Supervisor, ShortPressCyclesTheModesOnlyWhileRunning) {
+  core::Supervisor s;
+  auto in = quiet();
+  in.short_press = true;
+  run(s, in, 1);  // boot: ignored
+  EXPECT_EQ(s.mode(), config::kModeCycle[0]);
+  s = running_arm();
+  for (int k = 1; k <= config::kModeCount; ++k) {
+    run(s, in, 1);
+    EXPECT_EQ(s.mode(), config::kModeCycle[k % config::kModeCount]);
+  }
+}
+
+}  // namespace
