@@ -34,9 +34,9 @@ namespace wmra {
 namespace control {
 
 struct PidGains {
-  int16_t kp_q8;  // Q15 duty per position unit, Q8
+  int16_t kp_q4;  // Q15 duty per position unit, Q4
   int16_t ki_q8;  // Q15 duty per (position unit * sample), Q8
-  int16_t kd_q8;  // Q15 duty per (position unit / sample), Q8
+  int16_t kd;     // Q15 duty per (position unit / sample)
 };
 
 struct PidConfig {
@@ -50,30 +50,32 @@ struct PidConfig {
 enum class PidStatus : uint8_t { ok = 0, gain_invalid, limit_invalid };
 
 constexpr PidStatus pid_check(const PidConfig& c) {
-  return (c.gains.kp_q8 < 0 || c.gains.ki_q8 < 0 || c.gains.kd_q8 < 0) ? PidStatus::gain_invalid
+  return (c.gains.kp_q4 < 0 || c.gains.ki_q8 < 0 || c.gains.kd < 0) ? PidStatus::gain_invalid
          : (c.out_max_q15 <= 0 || c.rate_q15 <= 0 || c.min_duty_q15 < 0 || c.min_duty_q15 >= c.out_max_q15 ||
             c.zero_band_q15 < 0 || c.zero_band_q15 > c.out_max_q15)
              ? PidStatus::limit_invalid
              : PidStatus::ok;
 }
 
-// Per-sample Q8 gains from continuous ones: Kp in duty fraction per count, Ki per count-second,
+// Per-sample gains from continuous ones: Kp in duty fraction per count, Ki per count-second,
 // Kd in duty fraction * s per count, at rate_hz samples/s with units_per_count position units
-// per ADC count. ok is false when a gain does not fit.
+// per ADC count. ok is false when a gain does not fit its format.
 struct PidGainsResult {
   PidGains gains;
   bool ok;
 };
-constexpr int64_t pid_q8_gain(Ratio duty_per_count, int64_t scale_num, int64_t scale_den, int32_t units_per_count) {
-  return div_round(duty_per_count.num * 32768 * 256 * scale_num, duty_per_count.den * scale_den * units_per_count);
+// duty_per_count * 32768 * 2^frac * scale_num / (scale_den * units_per_count), rounded
+constexpr int64_t pid_gain(Ratio duty_per_count, int frac, int64_t scale_num, int64_t scale_den, int32_t units_per_count) {
+  return div_round(duty_per_count.num * 32768 * ((int64_t)1 << frac) * scale_num,
+                   duty_per_count.den * scale_den * units_per_count);
 }
 constexpr bool pid_fits(int64_t g) { return g >= 0 && g <= 32767; }
 constexpr PidGainsResult pid_gains(Ratio kp, Ratio ki_per_s, Ratio kd_s, int32_t rate_hz, int32_t units_per_count) {
   return PidGainsResult{
-      PidGains{(int16_t)pid_q8_gain(kp, 1, 1, units_per_count), (int16_t)pid_q8_gain(ki_per_s, 1, rate_hz, units_per_count),
-               (int16_t)pid_q8_gain(kd_s, rate_hz, 1, units_per_count)},
-      pid_fits(pid_q8_gain(kp, 1, 1, units_per_count)) && pid_fits(pid_q8_gain(ki_per_s, 1, rate_hz, units_per_count)) &&
-          pid_fits(pid_q8_gain(kd_s, rate_hz, 1, units_per_count))};
+      PidGains{(int16_t)pid_gain(kp, 4, 1, 1, units_per_count), (int16_t)pid_gain(ki_per_s, 8, 1, rate_hz, units_per_count),
+               (int16_t)pid_gain(kd_s, 0, rate_hz, 1, units_per_count)},
+      pid_fits(pid_gain(kp, 4, 1, 1, units_per_count)) && pid_fits(pid_gain(ki_per_s, 8, 1, rate_hz, units_per_count)) &&
+          pid_fits(pid_gain(kd_s, 0, rate_hz, 1, units_per_count))};
 }
 
 class Pid {
@@ -89,13 +91,14 @@ class Pid {
     return s;
   }
 
-  // Bumpless start: the next update with the same inputs outputs applied_effort_q15.
+  // Bumpless start: the next update with the same inputs outputs applied_effort_q15 (plus one
+  // sample of integration).
   void start(int32_t setpoint, int32_t measurement, int16_t applied_effort_q15) {
     m_prev_ = measurement;
     effort_ = (int16_t)clamp_i32(applied_effort_q15, -c_.out_max_q15, c_.out_max_q15);
     const int16_t e = saturate_i16(sub_saturated(setpoint, measurement));
-    const int32_t p = fx::mul_ss(e, c_.gains.kp_q8);  // Q8 of Q15 duty
-    integral_q23_ = clamp_integral(((int32_t)effort_ << 8) - p);
+    const int32_t p_q19 = fx::mul_ss(e, c_.gains.kp_q4);
+    integral_q23_ = clamp_integral(((int32_t)effort_ << 8) - clamp_i32(p_q19, -kTermLimit, kTermLimit) * 16);
   }
 
   // One sample: the duty (Q15, signed) to apply.
@@ -104,17 +107,20 @@ class Pid {
     const int16_t e = saturate_i16(sub_saturated(setpoint, measurement));
     const int16_t dm = saturate_i16(sub_saturated(measurement, m_prev_));
     m_prev_ = measurement;
-    const int32_t pd = fx::mul_ss(e, c_.gains.kp_q8) - fx::mul_ss(dm, c_.gains.kd_q8);  // Q23, < 2^31
-    const int32_t di = fx::mul_ss(e, c_.gains.ki_q8);
-    const int32_t limit_q23 = (int32_t)c_.out_max_q15 << 8;
-    const int32_t hi = clamp_i32(((int32_t)effort_ + c_.rate_q15) << 8, -limit_q23, limit_q23);
-    const int32_t lo = clamp_i32(((int32_t)effort_ - c_.rate_q15) << 8, -limit_q23, limit_q23);
+    // P and D in Q19, each clamped far beyond full output (2^26 = 128 x full) before summing
+    const int32_t p = clamp_i32(fx::mul_ss(e, c_.gains.kp_q4), -kTermLimit, kTermLimit);
+    const int32_t d = clamp_i32(fx::mul_ss(dm, c_.gains.kd), -kTermLimit / 16, kTermLimit / 16) * 16;
+    const int32_t pd = p - d;
+    const int32_t di = fx::mul_ss(e, c_.gains.ki_q8);  // Q23
+    const int32_t limit = (int32_t)c_.out_max_q15 << 4;
+    const int32_t hi = clamp_i32(((int32_t)effort_ + c_.rate_q15) << 4, -limit, limit);
+    const int32_t lo = clamp_i32(((int32_t)effort_ - c_.rate_q15) << 4, -limit, limit);
     const int32_t trial = clamp_integral(integral_q23_ + di);
-    const int32_t u_trial = add_saturated(clamp_i32(pd, -kPdLimit, kPdLimit), trial);
+    const int32_t u_trial = pd + (trial >> 4);
     // conditional integration: hold the integral when it would push further into a limit
     if (!((u_trial > hi && di > 0) || (u_trial < lo && di < 0))) integral_q23_ = trial;
-    const int32_t u = clamp_i32(add_saturated(clamp_i32(pd, -kPdLimit, kPdLimit), integral_q23_), lo, hi);
-    effort_ = (int16_t)((u + 128) >> 8);
+    const int32_t u = clamp_i32(pd + (integral_q23_ >> 4), lo, hi);
+    effort_ = (int16_t)((u + 8) >> 4);
     return duty_for(effort_);
   }
 
@@ -130,7 +136,7 @@ class Pid {
   int32_t integral_q23() const { return integral_q23_; }
 
  private:
-  static constexpr int32_t kPdLimit = (int32_t)1 << 28;  // far beyond full output in Q23
+  static constexpr int32_t kTermLimit = (int32_t)1 << 26;  // Q19: 128 x full output
 
   int32_t clamp_integral(int32_t i) const {
     const int32_t limit = (int32_t)c_.out_max_q15 << 8;

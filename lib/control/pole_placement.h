@@ -313,8 +313,8 @@ inline DcJointModel dc_joint_model(double k_counts_s, double tau_s) {
 }
 
 // Continuous PID gains (duty fraction per count, per count-second, seconds per count) that put
-// the three closed-loop poles at the given roots, by the rank-1 method (k = 1, qhat = 0 is
-// singular for this structure, so qhat = qhat_per_count_s is pre-applied and added back).
+// the three closed-loop poles at the given roots, by the rank-1 method with k = 1 and the
+// integral gain qhat pre-applied as in Annex c (any non-zero value; it is added back into Ki).
 struct DcPidGains {
   bool ok = false;
   double kp = 0, ki = 0, kd = 0;
@@ -334,8 +334,8 @@ inline DcPidGains design_dc_joint_pid(double k_counts_s, double tau_s, const std
 
 // The firmware's fixed-point per-sample gains (pid.h) from continuous ones
 inline PidGainsResult to_pid_gains(const DcPidGains& g, int32_t rate_hz, int32_t units_per_count) {
-  auto q8 = [&](double v) { return v * 32768.0 * 256.0 / units_per_count; };
-  const double kp = q8(g.kp), ki = q8(g.ki / rate_hz), kd = q8(g.kd * rate_hz);
+  auto q = [&](double v, int frac) { return v * 32768.0 * (double)(1 << frac) / units_per_count; };
+  const double kp = q(g.kp, 4), ki = q(g.ki / rate_hz, 8), kd = q(g.kd * rate_hz, 0);
   auto fits = [](double v) { return v >= 0 && v <= 32767.49; };
   return PidGainsResult{PidGains{(int16_t)std::lround(kp), (int16_t)std::lround(ki), (int16_t)std::lround(kd)},
                         g.ok && fits(kp) && fits(ki) && fits(kd)};

@@ -47,13 +47,13 @@ double duty_fraction(int16_t d) { return d / 32767.0; }
 
 TEST(Pid, GainConversionAndConfigurationChecks) {
   constexpr PidGainsResult g = pid_gains(Ratio{2, 100}, Ratio{1, 10}, Ratio{1, 10000}, kRateHz, kUnits);
-  EXPECT_EQ(g.gains.kp_q8, 10486);  // 0.02 * 32768 * 256 / 16
-  EXPECT_EQ(g.gains.ki_q8, 105);    // 0.1 / 500 * 32768 * 256 / 16
-  EXPECT_EQ(g.gains.kd_q8, 26214);  // 0.0001 * 500 * 32768 * 256 / 16
-  EXPECT_FALSE(pid_gains(Ratio{1, 1}, Ratio{0, 1}, Ratio{0, 1}, kRateHz, 1).ok);  // does not fit
+  EXPECT_EQ(g.gains.kp_q4, 655);  // 0.02 * 32768 * 16 / 16
+  EXPECT_EQ(g.gains.ki_q8, 105);  // 0.1 / 500 * 32768 * 256 / 16
+  EXPECT_EQ(g.gains.kd, 102);     // 0.0001 * 500 * 32768 / 16
+  EXPECT_FALSE(pid_gains(Ratio{2, 1}, Ratio{0, 1}, Ratio{0, 1}, kRateHz, 1).ok);  // does not fit
   PidConfig c = config();
   EXPECT_EQ(pid_check(c), PidStatus::ok);
-  c.gains.kp_q8 = -1;
+  c.gains.kp_q4 = -1;
   EXPECT_EQ(pid_check(c), PidStatus::gain_invalid);
   c = config();
   c.rate_q15 = 0;
@@ -75,14 +75,13 @@ TEST(Pid, NoDerivativeKickOnSetpointStep) {
   const int16_t before = pid.effort_q15();
   pid.update(m + 100, m);  // 100 units = 6.25 counts
   const int32_t jump = pid.effort_q15() - before;
-  const int32_t p_and_i = (100 * (config().gains.kp_q8 + config().gains.ki_q8) + 128) >> 8;
+  const double p_and_i = 100 * (config().gains.kp_q4 / 16.0 + config().gains.ki_q8 / 256.0);
   EXPECT_NEAR(jump, p_and_i, 1);
   // a measurement step of the same size does move D: -kd * 100 on top of -P
   pid.start(m, m, 0);
   pid.update(m, m);
   pid.update(m, m + 100);
-  EXPECT_NEAR(pid.effort_q15(), -((100 * (config().gains.kp_q8 + config().gains.ki_q8 + config().gains.kd_q8) + 128) >> 8),
-              2);
+  EXPECT_NEAR(pid.effort_q15(), -100 * (config().gains.kp_q4 / 16.0 + config().gains.ki_q8 / 256.0 + config().gains.kd), 2);
 }
 
 // The joint is held for 3 s with a large error (saturated drive), then released: the integral
@@ -107,9 +106,9 @@ TEST(Pid, AntiWindupRecoversQuickly) {
         duty = duty_fraction(pid.update(target, m));
         EXPECT_LE(std::abs(pid.integral_q23()), (int32_t)c.out_max_q15 << 8);
       } else {  // textbook PID in double, clamped output, integrating regardless
-        const double e = (target - m) / 32768.0 / 256.0;
-        naive_i += e * c.gains.ki_q8;
-        const double u = e * c.gains.kp_q8 + naive_i - (m - m_prev) / 32768.0 / 256.0 * c.gains.kd_q8;
+        const double e = (target - m) / 32768.0;
+        naive_i += e * c.gains.ki_q8 / 256.0;
+        const double u = e * c.gains.kp_q4 / 16.0 + naive_i - (m - m_prev) / 32768.0 * c.gains.kd;
         duty = std::max(-1.0, std::min(1.0, u));
       }
       m_prev = m;
