@@ -21,14 +21,18 @@ constexpr uint32_t magnitude_u32(int32_t x) { return x < 0 ? 0u - (uint32_t)x : 
 constexpr int8_t sign_of(int32_t x) { return (int8_t)(x > 0 ? 1 : x < 0 ? -1 : 0); }
 
 // a + b and a - b saturated to the int32 range (the sums a controller forms from clamped
-// terms stay far inside it; these only make the corner cases defined)
+// terms stay far inside it; these only make the corner cases defined): the add and the
+// overflow flag
 inline int32_t add_saturated(int32_t a, int32_t b) {
-  const int32_t s = (int32_t)((uint32_t)a + (uint32_t)b);
-  if (a >= 0 && b >= 0 && s < 0) return kInt32Max;
-  if (a < 0 && b < 0 && s >= 0) return kInt32Min + 1;
+  int32_t s;
+  if (__builtin_add_overflow(a, b, &s)) return a < 0 ? kInt32Min + 1 : kInt32Max;
   return s;
 }
-inline int32_t sub_saturated(int32_t a, int32_t b) { return add_saturated(a, b == kInt32Min ? kInt32Max : -b); }
+inline int32_t sub_saturated(int32_t a, int32_t b) {
+  int32_t s;
+  if (__builtin_sub_overflow(a, b, &s)) return a < 0 ? kInt32Min + 1 : kInt32Max;
+  return s;
+}
 
 // floor(a * b / 2^16) for unsigned operands, exact (the AVR routine, or 64-bit on the host)
 #if defined(__AVR__)
@@ -54,7 +58,12 @@ inline uint32_t mul_hi_u32xu32(uint32_t a, uint32_t b) {
 // x >> n with n < 32, rounded to nearest
 inline uint32_t shift_right_rounded(uint32_t x, uint8_t n) {
   if (n == 0) return x;
-  x >>= (uint8_t)(n - 1);
+  --n;
+  while (n >= 8) {  // whole bytes are register moves on the AVR
+    x >>= 8;
+    n -= 8;
+  }
+  x >>= n;
   return (x >> 1) + (x & 1u);
 }
 

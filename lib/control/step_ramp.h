@@ -232,6 +232,7 @@ class StepRamp {
     want_q16_ = want;
     want_dir_ = dir;
     has_target_ = false;
+    fast_steps_ = 0;
   }
 
   // Go to a position (steps) and stop there exactly, at most at max_speed_steps_s.
@@ -240,12 +241,14 @@ class StepRamp {
     target_ = clamp_i32(target_steps, -kPositionLimit, kPositionLimit);
     want_q16_ = want;
     has_target_ = want != ramp_detail::kNoStep;
+    fast_steps_ = 0;
   }
 
   // Brake to rest at the acceleration limit.
   void stop() {
     want_q16_ = ramp_detail::kNoStep;
     has_target_ = false;
+    fast_steps_ = 0;
   }
 
   // Forget the speed at once (the caller has cut the driver: e-stop, fault). No more steps.
@@ -256,6 +259,7 @@ class StepRamp {
     level_ = 0;
     frac_ = 0;
     running_ = false;
+    fast_steps_ = 0;
     lo_q16_ = k_.first_interval_q16;
     hi_q16_ = ramp_detail::kNoStep;
     walk_reset();
@@ -271,6 +275,13 @@ class StepRamp {
   // The next step: called at each step edge (and once to start from rest); counts the step
   // it returns. {0, 0}: no step; the ramp is at rest and stays so until a new command.
   Step next() {
+    if (fast_steps_ != 0) {  // steady: the same interval again (known safe for these steps)
+      --fast_steps_;
+      position_ += dir_;
+      const uint32_t t = last_q16_ + frac_;
+      frac_ = (uint16_t)t;
+      return Step{fx::hi16(t), dir_};
+    }
     uint32_t want = want_q16_;
     int8_t want_dir = want_dir_;
     int32_t remaining = 0;
@@ -324,6 +335,14 @@ class StepRamp {
       hi_q16_ = level_ == 0 ? ramp_detail::kNoStep : walk_below();
     } else {
       interval = want < lo_q16_ ? lo_q16_ : want > hi_q16_ ? hi_q16_ : want;
+      // the next steps repeat this one until a command, the braking point or the count limit
+      const uint32_t to_limit = (uint32_t)(kPositionLimit - (dir_ > 0 ? position_ : -position_)) - 1;
+      uint32_t steady = to_limit;
+      if (has_target_) {
+        const uint32_t left = (uint32_t)(dir_ > 0 ? remaining : -remaining);
+        steady = left - 1 - level_;  // left >= level + 1 here
+      }
+      fast_steps_ = (uint16_t)(steady > 65535u ? 65535u : steady);
     }
     position_ += dir_;
     last_q16_ = interval;
@@ -418,25 +437,34 @@ class StepRamp {
     uint32_t n0;       // tau(j0)
     uint32_t q;        // (tau(j0) - tau(j0 + K)) / K, whole part
     uint16_t rem;      // and remainder
-    uint8_t log2k;     // K = 2^log2k
+    uint16_t k;        // K = 2^log2k
+    uint8_t log2k;
   };
 
-  static uint8_t block_log2k(uint32_t level) {
-    uint8_t p = 0;
-    while (level >> (p + 1)) ++p;  // floor(log2 level) >= 8
-    const uint8_t l = (uint8_t)(p - 6);
-    return l > 15 ? 15 : l;
+  static uint8_t block_log2k(uint32_t level) {  // floor(log2 level) - 6, level >= 256, at most 15
+    uint8_t l = 2;
+    for (uint32_t v = level >> 9; v != 0 && l < 15; v >>= 1) ++l;
+    return l;
   }
 
-  Block block_from(uint32_t j0, uint8_t log2k, uint32_t n0) const {
-    const uint32_t n1 = node(j0 + ((uint32_t)1 << log2k));
+  static Block block_of(uint32_t j0, uint8_t log2k, uint32_t n0, uint32_t n1) {
     const uint32_t d = n0 - n1;
-    return Block{j0, n0, d >> log2k, (uint16_t)(d & (((uint32_t)1 << log2k) - 1)), log2k};
+    const uint16_t k = (uint16_t)(1u << log2k);
+    return Block{j0, n0, d >> log2k, (uint16_t)(d & (k - 1u)), k, log2k};
+  }
+  Block block_from(uint32_t j0, uint8_t log2k, uint32_t n0) const {
+    return block_of(j0, log2k, n0, node(j0 + ((uint32_t)1 << log2k)));
   }
   Block block_for(uint32_t level) const {
     const uint8_t l = block_log2k(level);
     const uint32_t j0 = level & ~(((uint32_t)1 << l) - 1);
     return block_from(j0, l, node(j0));
+  }
+  // the block that ends at j0 (> 256), whose end node tau(j0) is known
+  Block block_ending_at(uint32_t j0, uint32_t n_end) const {
+    const uint8_t l = block_log2k(j0 - 1);
+    const uint32_t start = j0 - ((uint32_t)1 << l);
+    return block_of(start, l, node(start), n_end);
   }
   // floor(off * (n0 - n1) / K)
   static uint32_t interpolated_drop(const Block& b, uint16_t off) {
@@ -452,6 +480,7 @@ class StepRamp {
   }
   void walk_enter(uint32_t level, const Block& b) {
     block_ = b;
+    below_valid_ = false;
     const uint16_t off = (uint16_t)(level - b.j0);
     walk_acc_ = (uint16_t)(((uint32_t)off * b.rem) & (((uint32_t)1 << b.log2k) - 1));
     walk_value_ = b.n0 - interpolated_drop(b, off);
@@ -464,7 +493,7 @@ class StepRamp {
       if (level == 256) walk_enter(level, block_from(256, block_log2k(256), walk_value_));
       return;
     }
-    const uint16_t k = (uint16_t)(1u << block_.log2k);
+    const uint16_t k = block_.k;
     if (walk_off_ + 1u == k) {  // next block starts at the node this one ends on
       const uint32_t n1 = block_.n0 - interpolated_drop(block_, k);
       walk_enter(level, block_from(level, block_log2k(level), n1));
@@ -485,24 +514,30 @@ class StepRamp {
       walk_value_ = table_interval(level);
       return;
     }
-    if (walk_off_ == 0) {  // into the block below
-      walk_enter(level, block_for(level));
+    if (walk_off_ == 0) {  // into the block below (walk_below usually found it already)
+      if (!(below_valid_ && below_.j0 + below_.k == level + 1)) below_ = block_ending_at(level + 1, walk_value_);
+      below_valid_ = false;
+      walk_enter(level, below_);
       return;
     }
     --walk_off_;
     uint32_t rise = block_.q;
     if (walk_acc_ < block_.rem) {
-      walk_acc_ += (uint16_t)(1u << block_.log2k);
+      walk_acc_ += block_.k;
       ++rise;
     }
     walk_acc_ -= block_.rem;
     walk_value_ += rise;
   }
-  // tau(walk_level_ - 1) without moving
-  uint32_t walk_below() const {
+  // tau(walk_level_ - 1) without moving (at a block start it finds the block below and keeps it)
+  uint32_t walk_below() {
     const uint32_t level = walk_level_ - 1;
     if (level < 256) return table_interval(level);
-    if (walk_off_ == 0) return interval_at_level(level);
+    if (walk_off_ == 0) {
+      below_ = block_ending_at(walk_level_, walk_value_);
+      below_valid_ = true;
+      return below_.n0 - interpolated_drop(below_, (uint16_t)(below_.k - 1u));
+    }
     return walk_value_ + block_.q + (walk_acc_ < block_.rem ? 1u : 0u);
   }
 
@@ -527,7 +562,10 @@ class StepRamp {
   uint32_t walk_value_ = 0;
   uint16_t walk_off_ = 0;
   uint16_t walk_acc_ = 0;
-  Block block_{0, 0, 0, 0, 0};
+  Block block_{0, 0, 0, 0, 1, 0};
+  Block below_{0, 0, 0, 0, 1, 0};
+  bool below_valid_ = false;
+  uint16_t fast_steps_ = 0;  // steps known to repeat the last interval
 };
 
 }  // namespace control
