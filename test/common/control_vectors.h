@@ -42,20 +42,20 @@ void line(Put& put, char tag, uint32_t a, uint32_t b, uint32_t c) {
   put('\n');
 }
 
-// Step ramp: random speed commands and moves, 24 batches of 250 steps
+// Step ramp: random speed commands and moves, 12 batches of 3000 steps
 template <class Put>
 void emit_ramp(Put& put) {
   control::StepRamp<2000000> r;
   r.configure({50000, 100});
   Lcg rng{11u};
-  for (uint8_t batch = 0; batch < 24; ++batch) {
-    if (batch % 6 == 5) {
+  for (uint8_t batch = 0; batch < 12; ++batch) {
+    if (batch % 4 == 3) {
       r.move_to(rng.in_range(-20000, 20000), (uint32_t)rng.in_range(100, 20000));
     } else {
       r.set_speed(rng.in_range(-21000, 21000));
     }
     Hash h;
-    for (uint16_t i = 0; i < 250; ++i) {
+    for (uint16_t i = 0; i < 3000; ++i) {  // up to level 3000: table and interpolation blocks
       const control::StepRamp<2000000>::Step s = r.next();
       h.add(s.interval_ticks);
       h.add((uint32_t)(int32_t)s.dir);
