@@ -24,14 +24,13 @@
 //                           faster than pushing starts;
 //   8. arming               nothing comes out until the stick has been neutral for
 //                           neutral_samples after calibration or a fault.
-// Integer only: one integer square root and one table reciprocal per sample for step 5, the
-// rest 16x16 products and compares.
+// Integer only: one table reciprocal square root per sample for step 5, the rest 16x16
+// products and compares.
 #pragma once
 
 #include <stdint.h>
 
 #include "control/control_math.h"
-#include "kinematics/fixed_trig.h"
 #include "kinematics/reciprocal.h"
 
 namespace wmra {
@@ -149,18 +148,22 @@ class Joystick {
       out[0] = out[1] = 0;
       return;
     }
-    const uint16_t len = fx::isqrt32(fx::mul_uu(ax, ax) + fx::mul_uu(ay, ay));  // in [m, 1.415 m]
+    // 1 / |(x, y)| by a table reciprocal square root: r 2^(s-31)
+    uint8_t s;
+    const uint16_t inv = rsqrt_normalised(fx::mul_uu(ax, ax) + fx::mul_uu(ay, ay), s);
     const uint16_t r = curve(m);
-    const int16_t k = ratio_q15(r, len < r ? r : len);  // r / |(x, y)|
-    out[0] = (int16_t)((fx::mul_ss(x, k) + 16384) >> 15);
-    out[1] = (int16_t)((fx::mul_ss(y, k) + 16384) >> 15);
+    uint32_t kk = fx::mul_uu(r, inv);  // r / |(x, y)| = kk 2^(s-31), in Q15 kk >> (16 - s)
+    for (uint8_t i = s; i < 16; ++i) kk >>= 1;
+    const int16_t k = (int16_t)(kk > 32767u ? 32767u : kk);
+    out[0] = shr15_to_i16(fx::mul_ss(x, k) + 16384);
+    out[1] = shr15_to_i16(fx::mul_ss(y, k) + 16384);
   }
 
   // (1 - k) r + k r^3 on [0, 32767]
   uint16_t curve(uint16_t r) const {
     const fx::Unit u{(int16_t)r};
     const fx::Unit cube = u * u * u;
-    const int32_t v = (int32_t)r + (fx::mul_ss(c_.expo_q15, (int16_t)(cube.raw - (int16_t)r)) >> 15);
+    const int32_t v = (int32_t)r + shr15_to_i16(fx::mul_ss(c_.expo_q15, (int16_t)(cube.raw - (int16_t)r)));
     return (uint16_t)clamp_i32(v, 0, 32767);
   }
 
@@ -206,7 +209,7 @@ class Joystick {
   int16_t normalise(uint16_t raw, uint8_t i) const {
     const int16_t d = (int16_t)(raw - centre_[i]);
     // scale = 128 * 32767 / span (Q15 of 128/span); d * scale >> 7 = d * 32767 / span
-    const int32_t v = fx::mul_ss(d, d >= 0 ? scale_hi_[i] : scale_lo_[i]) >> 7;
+    const int32_t v = shr7(fx::mul_ss(d, d >= 0 ? scale_hi_[i] : scale_lo_[i]));
     return (int16_t)clamp_i32(v, -32767, 32767);
   }
 
@@ -214,7 +217,7 @@ class Joystick {
     const int16_t a = v < 0 ? (int16_t)-v : v;
     if (a <= c_.dead_zone_q15) return 0;
     // (a - dz) * 32767 / (32767 - dz), with dead_scale_ = (32767/2) * 32767 / (32767 - dz)
-    const int32_t r = clamp_i32((fx::mul_ss((int16_t)(a - c_.dead_zone_q15), dead_scale_) + 8192) >> 14, 0, 32767);
+    const int32_t r = clamp_i32(shr14_to_i16(fx::mul_ss((int16_t)(a - c_.dead_zone_q15), dead_scale_) + 8192), 0, 32767);
     return v < 0 ? (int16_t)-r : (int16_t)r;
   }
 

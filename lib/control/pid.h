@@ -128,7 +128,7 @@ class Pid {
   int16_t duty_for(int16_t effort_q15) const {
     const int16_t a = effort_q15 < 0 ? (int16_t)-effort_q15 : effort_q15;
     if (a == 0 || a < c_.zero_band_q15) return 0;
-    const int16_t d = (int16_t)(c_.min_duty_q15 + (int16_t)(fx::mul_uu((uint16_t)a, slope_q15_) >> 15));
+    const int16_t d = (int16_t)(c_.min_duty_q15 + shr15_to_i16((int32_t)fx::mul_uu((uint16_t)a, slope_q15_)));
     return effort_q15 < 0 ? (int16_t)-d : d;
   }
 

@@ -17,6 +17,10 @@ namespace {
 
 volatile uint32_t sink;
 volatile int32_t input_speed = 20000;
+// inputs go through volatile variables so that the compiler cannot move their computation
+// (the LCG's modulo is a 32-bit division) into a timed region
+volatile int32_t in_target, in_pos;
+volatile uint16_t in_x, in_y;
 
 enum Region : uint8_t {
   kEmpty = 1,
@@ -106,8 +110,14 @@ int main() {
   for (uint8_t i = 0; i < 120; ++i) stick.update(512, 510);  // calibrated and armed
   int32_t pos = 8000;
   for (uint16_t k = 0; k < 200; ++k) {
-    const int32_t target = rng.in_range(6000, 10000);
+    in_target = rng.in_range(6000, 10000);
     pos += rng.in_range(-30, 30);
+    in_pos = pos;
+    in_x = (uint16_t)rng.in_range(100, 900);
+    in_y = (uint16_t)rng.in_range(100, 900);
+    const int32_t target = in_target;
+    pos = in_pos;
+    const uint16_t x = in_x, y = in_y;
     probe::start(kSeed0);
     int32_t v = seed0.update(target, pos);
     probe::stop(kSeed0);
@@ -120,7 +130,6 @@ int main() {
     probe::start(kPlausibility);
     v += monitor.update(duty, pos);
     probe::stop(kPlausibility);
-    const uint16_t x = (uint16_t)rng.in_range(100, 900), y = (uint16_t)rng.in_range(100, 900);
     probe::start(kJoystick);
     const JoystickOutput o = stick.update(x, y);
     probe::stop(kJoystick);

@@ -89,11 +89,22 @@ TEST(StepRamp, LevelTableEntriesAreRoundedDifferencesOfRoots) {
 }
 
 TEST(StepRamp, ReciprocalSquareRootTableEntries) {
-  const uint16_t* t = ramp_detail::rsqrt_table();
+  const uint16_t* t = rsqrt_table();
   for (int i = 0; i <= 192; ++i) {
     const double exact = 65536.0 / std::sqrt(1.0 + i / 64.0);
     EXPECT_EQ(t[i], (uint16_t)std::min(65535.0, std::floor(exact + 0.5))) << i;
   }
+}
+
+TEST(StepRamp, ReciprocalSquareRootAccuracy) {
+  double worst = 0;
+  for (uint64_t x = 1; x < (1ull << 32); x += 1 + x / 1013) {
+    uint8_t s;
+    const uint16_t r = rsqrt_normalised((uint32_t)x, s);
+    worst = std::max(worst, std::abs(r * std::ldexp(1.0, s - 31) * std::sqrt((double)x) - 1));
+  }
+  std::printf("table reciprocal square root: worst relative error %.2e\n", worst);
+  EXPECT_LT(worst, 7e-5);
 }
 
 TEST(StepRamp, ConfigurationRefusesGarbage) {
