@@ -125,21 +125,17 @@ inline uint16_t rsqrt_normalised(uint32_t x, uint8_t& s) {
   return (uint16_t)(t0 - (uint16_t)(fx::mul_uu((uint16_t)(t0 - t1), f) >> 8));
 }
 
-// Integer square root of a 64-bit value (compile-time and configuration-time use only).
+// floor(sqrt(v)) of a 64-bit value by Newton's iteration (compile-time and configuration-time
+// use only: it divides)
 constexpr uint64_t isqrt64(uint64_t v) {
-  uint64_t root = 0;
-  uint64_t bit = (uint64_t)1 << 62;
-  while (bit > v) bit >>= 2;
-  while (bit != 0) {
-    if (v >= root + bit) {
-      v -= root + bit;
-      root = (root >> 1) + bit;
-    } else {
-      root >>= 1;
-    }
-    bit >>= 2;
+  if (v < 2) return v;
+  uint64_t x = v;
+  uint64_t y = v / 2 + 1;
+  while (y < x) {
+    x = y;
+    y = (x + v / x) / 2;
   }
-  return root;
+  return x;
 }
 
 }  // namespace control

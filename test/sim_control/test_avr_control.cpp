@@ -4,39 +4,22 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "control_vectors.h"
+#include "sim_run.h"
+
+using wmra::simrun::Timing;
 
 namespace {
-
-std::string run(const std::string& command) {
-  std::string out;
-  FILE* p = popen(command.c_str(), "r");
-  if (!p) return out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  EXPECT_EQ(pclose(p), 0) << command;
-  return out;
-}
-
 struct StringPut {
   std::string* s;
   void operator()(char c) { s->push_back(c); }
 };
-
-struct Timing {
-  double mean = -1;
-  double max = -1;
-};
-
 }  // namespace
 
 TEST(AvrControl, BitIdenticalToHost) {
-  const std::string avr = run(std::string(AVR_RUN) + " " + CONTROL_VECTORS_ELF);
+  const std::string avr = wmra::simrun::output_of(std::string(AVR_RUN) + " " + CONTROL_VECTORS_ELF);
   std::string host;
   StringPut put{&host};
   wmra::control_vectors::emit_all(put);
@@ -47,23 +30,12 @@ TEST(AvrControl, BitIdenticalToHost) {
 class AvrControlCycles : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const std::string json = std::string(BENCH_OUT) + "/control_bench.json";
-    const std::string command = std::string(AVR_RUN) + " " + CONTROL_BENCH_ELF + " --timings " + json + " > /dev/null";
-    ASSERT_EQ(std::system(command.c_str()), 0) << command;
-    std::ifstream in(json);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    text_ = ss.str();
+    json_ = wmra::simrun::timings_of(AVR_RUN, CONTROL_BENCH_ELF, std::string(BENCH_OUT) + "/control_bench.json");
   }
-  static Timing get(const std::string& name) {
-    Timing t;
-    const size_t at = text_.find("\"" + name + "\"");
-    if (at != std::string::npos) std::sscanf(text_.c_str() + at + name.size() + 2, ": {\"cycles\": %lf, \"max\": %lf", &t.mean, &t.max);
-    return t;
-  }
-  static std::string text_;
+  static Timing get(const std::string& name) { return wmra::simrun::timing(json_, name); }
+  static std::string json_;
 };
-std::string AvrControlCycles::text_;
+std::string AvrControlCycles::json_;
 
 // Budgets: the measured figures (README) with headroom, so that a regression fails
 TEST_F(AvrControlCycles, PerCallCosts) {
