@@ -209,6 +209,7 @@ class StepRamp {
     want_dir_ = dir;
     has_target_ = false;
     fast_steps_ = 0;
+    ramp_fast_ = 0;
   }
 
   // Go to a position (steps) and stop there exactly, at most at max_speed_steps_s.
@@ -218,6 +219,7 @@ class StepRamp {
     want_q16_ = want;
     has_target_ = want != ramp_detail::kNoStep;
     fast_steps_ = 0;
+    ramp_fast_ = 0;
   }
 
   // Brake to rest at the acceleration limit.
@@ -225,6 +227,7 @@ class StepRamp {
     want_q16_ = ramp_detail::kNoStep;
     has_target_ = false;
     fast_steps_ = 0;
+    ramp_fast_ = 0;
   }
 
   // Forget the speed at once (the caller has cut the driver: e-stop, fault). No more steps.
@@ -236,6 +239,7 @@ class StepRamp {
     frac_ = 0;
     running_ = false;
     fast_steps_ = 0;
+    ramp_fast_ = 0;
     lo_q16_ = k_.first_interval_q16;
     hi_q16_ = ramp_detail::kNoStep;
     walk_reset();
@@ -258,6 +262,57 @@ class StepRamp {
       frac_ = (uint16_t)t;
       return Step{fx::hi16(t), dir_};
     }
+    if (ramp_fast_ > 0) return ramp_step_up();  // inside an interpolation block, known direction
+    if (ramp_fast_ < 0) return ramp_step_down();
+    return decide();
+  }
+
+  int32_t position_steps() const { return position_; }
+  bool running() const { return running_; }
+  // True when next() would give a step: the caller starts the timer if !running().
+  bool wants_step() const {
+    if (!configured_ || want_q16_ == ramp_detail::kNoStep) return level_ != 0;
+    return !has_target_ || target_ != position_ || level_ != 0;
+  }
+  uint32_t level() const { return level_; }
+  int8_t direction() const { return dir_; }
+  uint32_t last_interval_q16() const { return last_q16_; }
+  const StepRampConstants& constants() const { return k_; }
+
+  // tau(level) in Q16.16 ticks, the profile (1) as this ramp evaluates it (tests, planning)
+  uint32_t interval_at_level(uint32_t level) const {
+    if (level <= 256) return table_interval(level);
+    const Block b = block_for(level);
+    return b.n0 - interpolated_drop(b, (uint16_t)(level - b.j0));
+  }
+
+  // F * 2^16 / speed, for speeds >= kMinSpeedStepsPerS, by a table reciprocal; kNoStep below
+  static uint32_t interval_for_speed_unclamped(uint32_t speed) {
+    if (speed < kMinSpeedStepsPerS) return ramp_detail::kNoStep;
+    // speed = M 2^(e-16) with M in [2^15, 2^16); 2^31/M from the reciprocal table; then
+    // F 2^16 / speed = F (2^31/M) 2^(1-e)
+    uint8_t e = 32;
+    uint32_t v = speed;
+    while (!(v & 0x80000000u)) {
+      v <<= 1;
+      --e;
+    }
+    const uint16_t h = fx::half_reciprocal_uq16(fx::hi16(v));
+    uint32_t p = mul_hi_u32xu16(kTickHz, h);  // F h / 2^16
+    if (e <= 17) {
+      for (uint8_t i = e; i < 17; ++i) p <<= 1;
+    } else {
+      for (uint8_t i = 17; i < e; ++i) p >>= 1;
+    }
+    return p;
+  }
+
+ private:
+  static constexpr int32_t kPositionLimit = (int32_t)1 << 30;
+
+  // The full decision: speed up, hold or slow down, within the command, the acceleration limit
+  // and the stopping distance. Not inlined, so that the short paths of next() stay short.
+  __attribute__((noinline)) Step decide() {
     uint32_t want = want_q16_;
     int8_t want_dir = want_dir_;
     int32_t remaining = 0;
@@ -320,6 +375,11 @@ class StepRamp {
       }
       fast_steps_ = (uint16_t)(steady > 65535u ? 65535u : steady);
     }
+    if (action != 0 && !has_target_ && walk_level_ >= 256) plan_ramp_steps(action, want);
+    return emit(interval);
+  }
+
+  Step emit(uint32_t interval) {
     position_ += dir_;
     last_q16_ = interval;
     running_ = true;
@@ -328,48 +388,55 @@ class StepRamp {
     return Step{fx::hi16(t), dir_};
   }
 
-  int32_t position_steps() const { return position_; }
-  bool running() const { return running_; }
-  // True when next() would give a step: the caller starts the timer if !running().
-  bool wants_step() const {
-    if (!configured_ || want_q16_ == ramp_detail::kNoStep) return level_ != 0;
-    return !has_target_ || target_ != position_ || level_ != 0;
-  }
-  uint32_t level() const { return level_; }
-  int8_t direction() const { return dir_; }
-  uint32_t last_interval_q16() const { return last_q16_; }
-  const StepRampConstants& constants() const { return k_; }
-
-  // tau(level) in Q16.16 ticks, the profile (1) as this ramp evaluates it (tests, planning)
-  uint32_t interval_at_level(uint32_t level) const {
-    if (level <= 256) return table_interval(level);
-    const Block b = block_for(level);
-    return b.n0 - interpolated_drop(b, (uint16_t)(level - b.j0));
-  }
-
-  // F * 2^16 / speed, for speeds >= kMinSpeedStepsPerS, by a table reciprocal; kNoStep below
-  static uint32_t interval_for_speed_unclamped(uint32_t speed) {
-    if (speed < kMinSpeedStepsPerS) return ramp_detail::kNoStep;
-    // speed = M 2^(e-16) with M in [2^15, 2^16); 2^31/M from the reciprocal table; then
-    // F 2^16 / speed = F (2^31/M) 2^(1-e)
-    uint8_t e = 32;
-    uint32_t v = speed;
-    while (!(v & 0x80000000u)) {
-      v <<= 1;
-      --e;
+  // After a ramp step in an interpolation block at a constant speed command: the following
+  // steps up to the block's edge are ramp steps in the same sense when the block's end (speeding
+  // up) or start (slowing down) is still on the same side of the wanted interval. They then
+  // take the short paths below (no decisions, no block change).
+  void plan_ramp_steps(int8_t action, uint32_t want) {
+    const uint32_t to_limit = (uint32_t)(kPositionLimit - (dir_ > 0 ? position_ : -position_)) - 1;
+    uint32_t n = 0;
+    if (action > 0) {
+      if (block_.n0 - interpolated_drop(block_, block_.k) > want) n = (uint32_t)(block_.k - 1u - walk_off_);
+    } else if (block_.n0 < want && walk_off_ >= 2) {
+      n = walk_off_ - 1u;
     }
-    const uint16_t h = fx::half_reciprocal_uq16(fx::hi16(v));
-    uint32_t p = mul_hi_u32xu16(kTickHz, h);  // F h / 2^16
-    if (e <= 17) {
-      for (uint8_t i = e; i < 17; ++i) p <<= 1;
-    } else {
-      for (uint8_t i = 17; i < e; ++i) p >>= 1;
-    }
-    return p;
+    if (n > to_limit) n = to_limit;
+    ramp_fast_ = action > 0 ? (int16_t)n : (int16_t)-(int16_t)n;
   }
-
- private:
-  static constexpr int32_t kPositionLimit = (int32_t)1 << 30;
+  Step ramp_step_up() {
+    --ramp_fast_;
+    const uint32_t interval = lo_q16_;
+    hi_q16_ = interval;
+    ++level_;
+    ++walk_level_;
+    ++walk_off_;
+    walk_acc_ += block_.rem;
+    uint32_t drop = block_.q;
+    if (walk_acc_ >= block_.k) {
+      walk_acc_ -= block_.k;
+      ++drop;
+    }
+    walk_value_ -= drop;
+    lo_q16_ = walk_value_;
+    return emit(interval);
+  }
+  Step ramp_step_down() {
+    ++ramp_fast_;
+    const uint32_t interval = hi_q16_;
+    lo_q16_ = interval;
+    --level_;
+    --walk_level_;
+    --walk_off_;  // stays >= 1
+    uint32_t rise = block_.q;
+    if (walk_acc_ < block_.rem) {
+      walk_acc_ += block_.k;
+      ++rise;
+    }
+    walk_acc_ -= block_.rem;
+    walk_value_ += rise;  // tau(level)
+    hi_q16_ = walk_value_ + block_.q + (walk_acc_ < block_.rem ? 1u : 0u);  // tau(level - 1)
+    return emit(interval);
+  }
 
   uint32_t interval_for_speed(uint32_t speed) const {
     const uint32_t want = interval_for_speed_unclamped(speed);
@@ -526,6 +593,7 @@ class StepRamp {
   Block below_{0, 0, 0, 0, 1, 0};
   bool below_valid_ = false;
   uint16_t fast_steps_ = 0;  // steps known to repeat the last interval
+  int16_t ramp_fast_ = 0;    // > 0: steps known to speed up, < 0: to slow down, inside the block
 };
 
 }  // namespace control

@@ -44,7 +44,7 @@ TEST_F(AvrControlCycles, PerCallCosts) {
     double max_cycles;
   };
   const Budget budgets[] = {
-      {"ramp_next_cruise", 100},       {"ramp_next_accelerating", 1500}, {"ramp_next_braking", 1500},
+      {"ramp_next_cruise", 100},       {"ramp_next_accelerating", 2000}, {"ramp_next_braking", 2000},
       {"ramp_set_speed", 500},         {"seed0_update", 500},            {"pid_update", 1200},
       {"relay_update", 250},           {"plausibility_update", 250},     {"joystick_update", 5000},
       {"button_update", 200},
