@@ -10,7 +10,7 @@
 // falls below E' - h (default 0: the thesis's law, stateless). The thesis analyses it on
 // G(s) = K_m / (s (tau s + 1)) (K_m = 2.4 rad/(V s), tau = 0.255 s); its printed velocity
 // solution (4.22, 4.24) is wrong, the corrected sample map is in seed1-digest 4.3 and in
-// test_relay, which checks the relay on it: an on-off relay limit-cycles about the target, a
+// test_relay_button, which checks the relay on it: an on-off relay limit-cycles about the target, a
 // wide enough dead zone settles inside +-E'.
 // Integer only: the error is a 32-bit difference of position units; the duty is Q15.
 #pragma once

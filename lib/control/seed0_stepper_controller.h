@@ -19,7 +19,7 @@
 //
 // Units: e in encoder counts (joint side), speeds in motor steps/s, as in the thesis: the gains
 // absorb the counts-to-steps ratio. Gains in Q8 (kp_q8 = 256 K_P), kd as K_D/dt per period.
-// The firmware keeps its fixed period (the PIC's varied with speed). Feed V_C to a StepRamp
+// This port keeps a fixed period (the PIC's period varied with the speed). Feed V_C to a StepRamp
 // whose acceleration limit is at least alpha, so the step train follows the command.
 //
 // Constants (seed0-digest 3.4): alpha by test (raise until steps are lost, keep the last good
