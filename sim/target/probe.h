@@ -13,6 +13,10 @@
 namespace probe {
 
 inline void put(char c) { _SFR_IO8(WMRA_PROBE_CONSOLE_IO) = (uint8_t)c; }
+// put() as a function object, for code that writes through a Put& sink
+struct ConsolePut {
+  void operator()(char c) const { put(c); }
+};
 inline void print(const char* s) {
   while (*s) put(*s++);
 }

@@ -3,14 +3,8 @@
 #include "kinematics_vectors.h"
 #include "probe.h"
 
-namespace {
-struct ConsolePut {
-  void operator()(char c) { probe::put(c); }
-};
-}  // namespace
-
 int main() {
-  ConsolePut put;
+  probe::ConsolePut put;
   wmra::vectors::emit_all(put);
   probe::print("END\n");
   probe::finish();

@@ -1,35 +1,20 @@
 // Cycle budgets of the kinematics on the ATmega2560, measured in simavr (deterministic).
 #include <gtest/gtest.h>
 
-#include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
+
+#include "sim_run.h"
 
 namespace {
 
-struct Timing {
-  double mean = -1;
-  double max = -1;
-};
+using wmra::simrun::Timing;
 
 class AvrBench : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const std::string json = std::string(BENCH_OUT) + "/bench_ctest.json";
-    const std::string command = std::string(AVR_RUN) + " " + BENCH_ELF + " --timings " + json + " > /dev/null";
-    ASSERT_EQ(std::system(command.c_str()), 0) << command;
-    std::ifstream in(json);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    text_ = ss.str();
+    text_ = wmra::simrun::timings_of(AVR_RUN, BENCH_ELF, std::string(BENCH_OUT) + "/bench_ctest.json");
   }
-  static Timing get(const std::string& name) {
-    Timing t;
-    const size_t at = text_.find("\"" + name + "\"");
-    if (at != std::string::npos) std::sscanf(text_.c_str() + at + name.size() + 2, ": {\"cycles\": %lf, \"max\": %lf", &t.mean, &t.max);
-    return t;
-  }
+  static Timing get(const std::string& name) { return wmra::simrun::timing(text_, name); }
   static std::string text_;
 };
 std::string AvrBench::text_;

@@ -6,20 +6,9 @@
 #include <string>
 
 #include "kinematics_vectors.h"
+#include "sim_run.h"
 
 namespace {
-
-std::string run(const std::string& command) {
-  std::string out;
-  FILE* p = popen(command.c_str(), "r");
-  if (!p) return out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  const int status = pclose(p);
-  EXPECT_EQ(status, 0) << command;
-  return out;
-}
 
 struct StringPut {
   std::string* s;
@@ -27,7 +16,7 @@ struct StringPut {
 };
 
 TEST(AvrKinematics, BitIdenticalToHost) {
-  const std::string avr = run(std::string(AVR_RUN) + " " + VECTORS_ELF);
+  const std::string avr = wmra::simrun::output_of(std::string(AVR_RUN) + " " + VECTORS_ELF);
   std::string host;
   StringPut put{&host};
   wmra::vectors::emit_all(put);
@@ -51,7 +40,7 @@ TEST(AvrKinematics, BitIdenticalToHost) {
 // The hand-written AVR arithmetic (products, saturating sums) against int64 and plain
 // integer arithmetic on the chip itself (test/avr/fixed_products_avr.cpp).
 TEST(AvrKinematics, HandWrittenArithmeticMatchesIntegerReference) {
-  const std::string out = run(std::string(AVR_RUN) + " " + PRODUCTS_ELF);
+  const std::string out = wmra::simrun::output_of(std::string(AVR_RUN) + " " + PRODUCTS_ELF);
   EXPECT_NE(out.find("mismatches 0\n"), std::string::npos) << out;
 }
 

@@ -1,0 +1,263 @@
+// Joystick shaping: two raw ADC channels in, a velocity command (x, y in Q15, |(x, y)| <= 1)
+// out, once per control tick, as a pure function of the samples.
+//
+// Pipeline, and why:
+//   1. centre calibration   the mean of the first samples (seed 2: 10 after 500 ms); refused
+//                           and restarted while they spread too much (stick moving) or sit
+//                           far from mid-scale (deflected at power-up);
+//   2. rail check           a reading within rail_margin of 0 or full scale is a broken or
+//                           unplugged channel: it reads as neutral at once, and after
+//                           rail_samples in a row latches a fault (flag) until the stick has
+//                           been valid and neutral again (SPEC 6: no motion until valid and
+//                           neutral). Full deflection must stay inside the margins (hardware);
+//   3. normalise            per side of the centre, so that each full deflection is 1;
+//   4. dead zone            per axis (seed 2: ~2 %), rescaled so the output is continuous at
+//                           its edge; per axis rather than radial, so that a push along one
+//                           axis gives no drift in the other;
+//   5. square to disc       seed 2: the square of the two pots onto the unit disc, along the
+//                           same direction, so every direction has the same maximum: the
+//                           vector is scaled by max(|x|, |y|) / |(x, y)|;
+//   6. response curve       on the radius: (1 - k) r + k r^3 (k = expo), monotone for k in
+//                           [0, 1], fine control near the centre;
+//   7. rate limit           per axis, rise_per_sample away from zero and fall_per_sample
+//                           towards it: no step change of velocity, and letting go stops
+//                           faster than pushing starts;
+//   8. arming               nothing comes out until the stick has been neutral for
+//                           neutral_samples after calibration or a fault.
+// Integer only: one table reciprocal square root per sample for step 5, the rest 16x16
+// products and compares.
+#pragma once
+
+#include <stdint.h>
+
+#include "control/control_math.h"
+#include "kinematics/reciprocal.h"
+
+namespace wmra {
+namespace control {
+
+enum JoystickStatus : uint8_t {
+  kJoystickCalibrating = 1,  // the centre is not known yet
+  kJoystickNotArmed = 2,     // waiting for the stick to be neutral
+  kJoystickRailX = 4,        // channel x stuck at a rail (latched until re-armed)
+  kJoystickRailY = 8,
+};
+
+struct JoystickConfig {
+  uint16_t adc_max;              // full-scale reading (1023)
+  uint16_t rail_margin;          // readings <= margin or >= adc_max - margin are a rail
+  uint8_t rail_samples;          // > 0
+  uint8_t calibration_samples;   // 1..64
+  uint16_t calibration_spread;   // largest max - min while calibrating
+  uint16_t centre_tolerance;     // largest |centre - adc_max / 2|
+  int16_t dead_zone_q15;         // [0, 16384)
+  int16_t expo_q15;              // [0, 32767]
+  int16_t rise_q15;              // per sample, > 0
+  int16_t fall_q15;              // per sample, > 0
+  uint16_t neutral_samples;      // > 0
+};
+
+struct JoystickOutput {
+  int16_t x_q15;
+  int16_t y_q15;
+  uint8_t status;  // JoystickStatus bits; 0 = live
+};
+
+constexpr bool joystick_check(const JoystickConfig& c) {
+  return c.adc_max >= 255 && c.rail_margin < c.adc_max / 4 && c.rail_samples > 0 && c.calibration_samples > 0 &&
+         c.calibration_samples <= 64 && c.centre_tolerance < c.adc_max / 4 && c.dead_zone_q15 >= 0 &&
+         c.dead_zone_q15 < 16384 && c.expo_q15 >= 0 && c.rise_q15 > 0 && c.fall_q15 > 0 && c.neutral_samples > 0;
+}
+
+// num * 32768 / den (saturated at 32767) for 0 <= num <= den, den > 0, by a table reciprocal (no division)
+inline int16_t ratio_q15(uint16_t num, uint16_t den) {
+  uint8_t s = 0;
+  while (!(den & 0x8000u)) {
+    den <<= 1;
+    ++s;
+  }
+  // 1/den_original = 2^s / den; half_reciprocal gives 2^31 / den
+  const uint32_t r = fx::mul_uu(num, fx::half_reciprocal_uq16(den));  // num 2^31 / den
+  const uint32_t q = r >> (16 - s);                                      // num 2^15 / den_original
+  return (int16_t)(q > 32767u ? 32767u : q);
+}
+
+class Joystick {
+ public:
+  bool configure(const JoystickConfig& c) {
+    if (!joystick_check(c)) return false;
+    c_ = c;
+    dead_scale_ = ratio_q15(32767u / 2, (uint16_t)(32767 - c.dead_zone_q15));  // half: fits Q15
+    configured_ = true;
+    recalibrate();
+    return true;
+  }
+
+  void recalibrate() {
+    calibrated_ = false;
+    armed_ = false;
+    cal_count_ = 0;
+    rail_flags_ = 0;
+    rail_count_[0] = rail_count_[1] = 0;
+    out_[0] = out_[1] = 0;
+    neutral_count_ = 0;
+  }
+
+  JoystickOutput update(uint16_t raw_x, uint16_t raw_y) {
+    if (!configured_) return JoystickOutput{0, 0, kJoystickCalibrating | kJoystickNotArmed};
+    const uint16_t raw[2] = {raw_x, raw_y};
+    bool at_rail[2];
+    for (uint8_t i = 0; i < 2; ++i) {
+      at_rail[i] = raw[i] <= c_.rail_margin || raw[i] >= c_.adc_max - c_.rail_margin;
+      if (at_rail[i]) {
+        if (rail_count_[i] < 255) ++rail_count_[i];
+        if (rail_count_[i] >= c_.rail_samples) rail_flags_ |= (uint8_t)(kJoystickRailX << i);
+      } else {
+        rail_count_[i] = 0;
+      }
+    }
+    if (!calibrated_) {
+      calibrate(raw, at_rail[0] || at_rail[1]);
+      return JoystickOutput{0, 0, status()};
+    }
+    int16_t v[2];
+    for (uint8_t i = 0; i < 2; ++i) v[i] = at_rail[i] ? 0 : dead_zone(normalise(raw[i], i));
+    // arming: neutral (inside the dead zone, both channels valid) for neutral_samples
+    const bool neutral = v[0] == 0 && v[1] == 0 && !at_rail[0] && !at_rail[1];
+    if (!armed_ || rail_flags_) {
+      armed_ = false;
+      neutral_count_ = neutral ? (uint16_t)(neutral_count_ + 1) : 0;
+      if (neutral_count_ >= c_.neutral_samples) {
+        armed_ = true;
+        rail_flags_ = 0;
+      }
+    }
+    int16_t target[2] = {0, 0};
+    if (armed_) shape(v[0], v[1], target);
+    for (uint8_t i = 0; i < 2; ++i) out_[i] = ramp(out_[i], target[i]);
+    return JoystickOutput{out_[0], out_[1], status()};
+  }
+
+  uint16_t centre(uint8_t axis) const { return centre_[axis]; }
+
+  // Steps 5 and 6 alone (tests): square to disc, then the curve on the radius
+  void shape(int16_t x, int16_t y, int16_t out[2]) const {
+    const uint16_t ax = (uint16_t)(x < 0 ? -x : x), ay = (uint16_t)(y < 0 ? -y : y);
+    const uint16_t m = ax > ay ? ax : ay;
+    if (m == 0) {
+      out[0] = out[1] = 0;
+      return;
+    }
+    // 1 / |(x, y)| by a table reciprocal square root: r 2^(s-31)
+    uint8_t s;
+    const uint16_t inv = rsqrt_normalised(fx::mul_uu(ax, ax) + fx::mul_uu(ay, ay), s);
+    const uint16_t r = curve(m);
+    uint32_t kk = fx::mul_uu(r, inv);  // r / |(x, y)| = kk 2^(s-31), in Q15 kk >> (16 - s)
+    for (uint8_t i = s; i < 16; ++i) kk >>= 1;
+    const int16_t k = (int16_t)(kk > 32767u ? 32767u : kk);
+    out[0] = shr15_to_i16(fx::mul_ss(x, k) + 16384);
+    out[1] = shr15_to_i16(fx::mul_ss(y, k) + 16384);
+  }
+
+  // (1 - k) r + k r^3 on [0, 32767]
+  uint16_t curve(uint16_t r) const {
+    const fx::Unit u{(int16_t)r};
+    const fx::Unit cube = u * u * u;
+    const int32_t v = (int32_t)r + shr15_to_i16(fx::mul_ss(c_.expo_q15, (int16_t)(cube.raw - (int16_t)r)));
+    return (uint16_t)clamp_i32(v, 0, 32767);
+  }
+
+ private:
+  uint8_t status() const {
+    return (uint8_t)((calibrated_ ? 0 : kJoystickCalibrating) | (armed_ ? 0 : kJoystickNotArmed) | rail_flags_);
+  }
+
+  void calibrate(const uint16_t raw[2], bool rail) {
+    if (rail) {
+      cal_count_ = 0;
+      return;
+    }
+    for (uint8_t i = 0; i < 2; ++i) {
+      if (cal_count_ == 0) {
+        cal_sum_[i] = 0;
+        cal_min_[i] = cal_max_[i] = raw[i];
+      }
+      cal_sum_[i] += raw[i];
+      if (raw[i] < cal_min_[i]) cal_min_[i] = raw[i];
+      if (raw[i] > cal_max_[i]) cal_max_[i] = raw[i];
+    }
+    if (++cal_count_ < c_.calibration_samples) return;
+    cal_count_ = 0;
+    const uint16_t mid = c_.adc_max / 2;
+    for (uint8_t i = 0; i < 2; ++i) {
+      const uint16_t centre = (uint16_t)((cal_sum_[i] + c_.calibration_samples / 2) / c_.calibration_samples);
+      const uint16_t off = centre > mid ? centre - mid : mid - centre;
+      if (cal_max_[i] - cal_min_[i] > c_.calibration_spread || off > c_.centre_tolerance) return;  // try again
+      centre_[i] = centre;
+    }
+    // per side: full deflection is the last reading before the rail margin
+    for (uint8_t i = 0; i < 2; ++i) {
+      const uint16_t hi_span = (uint16_t)(c_.adc_max - c_.rail_margin - 1 - centre_[i]);
+      const uint16_t lo_span = (uint16_t)(centre_[i] - c_.rail_margin - 1);
+      scale_hi_[i] = ratio_q15(128, hi_span);  // 128 * 32768 / span
+      scale_lo_[i] = ratio_q15(128, lo_span);
+    }
+    calibrated_ = true;
+  }
+
+  // reading -> [-32767, 32767], each side scaled to its own span
+  int16_t normalise(uint16_t raw, uint8_t i) const {
+    const int16_t d = (int16_t)(raw - centre_[i]);
+    // scale = 128 * 32767 / span (Q15 of 128/span); d * scale >> 7 = d * 32767 / span
+    const int32_t v = shr7(fx::mul_ss(d, d >= 0 ? scale_hi_[i] : scale_lo_[i]));
+    return (int16_t)clamp_i32(v, -32767, 32767);
+  }
+
+  int16_t dead_zone(int16_t v) const {
+    const int16_t a = v < 0 ? (int16_t)-v : v;
+    if (a <= c_.dead_zone_q15) return 0;
+    // (a - dz) * 32767 / (32767 - dz), with dead_scale_ = (32767/2) * 32767 / (32767 - dz)
+    const int32_t r = clamp_i32(shr14_to_i16(fx::mul_ss((int16_t)(a - c_.dead_zone_q15), dead_scale_) + 8192), 0, 32767);
+    return v < 0 ? (int16_t)-r : (int16_t)r;
+  }
+
+  int16_t ramp(int16_t current, int16_t target) const {
+    int32_t next;
+    if (current > 0 && target < current) {
+      next = current - c_.fall_q15;
+      if (next < target) next = target;
+      if (next < 0) next = 0;  // through zero one sample at a time
+    } else if (current < 0 && target > current) {
+      next = current + c_.fall_q15;
+      if (next > target) next = target;
+      if (next > 0) next = 0;
+    } else if (target > current) {
+      next = current + c_.rise_q15;
+      if (next > target) next = target;
+    } else {
+      next = current - c_.rise_q15;
+      if (next < target) next = target;
+    }
+    return (int16_t)next;
+  }
+
+  JoystickConfig c_{1023, 8, 50, 16, 24, 100, 655, 0, 100, 300, 100};
+  bool configured_ = false;
+  bool calibrated_ = false;
+  bool armed_ = false;
+  uint8_t cal_count_ = 0;
+  uint16_t cal_sum_[2] = {0, 0};
+  uint16_t cal_min_[2] = {0, 0};
+  uint16_t cal_max_[2] = {0, 0};
+  uint16_t centre_[2] = {0, 0};
+  int16_t scale_hi_[2] = {0, 0};
+  int16_t scale_lo_[2] = {0, 0};
+  int16_t dead_scale_ = 32767;
+  uint8_t rail_count_[2] = {0, 0};
+  uint8_t rail_flags_ = 0;
+  uint16_t neutral_count_ = 0;
+  int16_t out_[2] = {0, 0};
+};
+
+}  // namespace control
+}  // namespace wmra

@@ -1,0 +1,155 @@
+// PID position loop for a DC joint (potentiometer in, signed PWM duty out), run at a fixed
+// sample rate: gains are per sample.
+//
+// What it adds to a textbook PID, and why:
+//   derivative on the measurement   a setpoint step moves only P and I, never kicks D;
+//   anti-windup                     the integral is held while the output is limited (by
+//                                   saturation or by the rate limit) in the direction the
+//                                   error pushes, and never holds more than full output, so it
+//                                   unwinds within a few samples once the error turns;
+//   bumpless start                  start() sets the integral so that the first output equals
+//                                   the duty already applied (0 for a joint at rest);
+//   output rate limit               the effort changes by at most rate_q15 per sample: no step
+//                                   of motor voltage (the joystick ramps the setpoint, this
+//                                   covers disturbances and start-up);
+//   stiction / dead-zone inverse    effort e > zero band maps to min_duty + e (1 - min/max):
+//                                   the joint's dead zone (seed 2: ~30/255) is skipped, the
+//                                   gain above it is kept, and |duty| <= out_max still holds.
+//                                   Inside the zero band the duty is 0 (no hum at rest).
+// Order per sample: P + I + D -> saturate -> rate limit (on effort) -> dead-zone inverse.
+//
+// Fixed point: the error and the change of the measurement are saturated to 16 bits, and each
+// term is one 16x16 product (gains Q8), so no term can wrap. Duty and effort are Q15 fractions
+// of full PWM (32767 = 100 %): the firmware scales by its timer's TOP. The integral is kept in
+// Q23 (Q15 duty * 256) so that small Ki still integrates. "Position units" are the caller's:
+// e.g. ADC counts * 16, so that a setpoint integrated from a joint velocity keeps its fraction.
+#pragma once
+
+#include <stdint.h>
+
+#include "control/control_math.h"
+#include "kinematics/ratio.h"
+
+namespace wmra {
+namespace control {
+
+struct PidGains {
+  int16_t kp_q4;  // Q15 duty per position unit, Q4
+  int16_t ki_q8;  // Q15 duty per (position unit * sample), Q8
+  int16_t kd;     // Q15 duty per (position unit / sample)
+};
+
+struct PidConfig {
+  PidGains gains;
+  int16_t out_max_q15;    // |effort| and |duty| limit, (0, 32767]
+  int16_t rate_q15;       // largest change of effort per sample, > 0
+  int16_t min_duty_q15;   // duty at which the joint starts to move (stiction), [0, out_max)
+  int16_t zero_band_q15;  // |effort| below this gives duty 0, [0, out_max]
+};
+
+enum class PidStatus : uint8_t { ok = 0, gain_invalid, limit_invalid };
+
+constexpr PidStatus pid_check(const PidConfig& c) {
+  return (c.gains.kp_q4 < 0 || c.gains.ki_q8 < 0 || c.gains.kd < 0) ? PidStatus::gain_invalid
+         : (c.out_max_q15 <= 0 || c.rate_q15 <= 0 || c.min_duty_q15 < 0 || c.min_duty_q15 >= c.out_max_q15 ||
+            c.zero_band_q15 < 0 || c.zero_band_q15 > c.out_max_q15)
+             ? PidStatus::limit_invalid
+             : PidStatus::ok;
+}
+
+// Per-sample gains from continuous ones: Kp in duty fraction per count, Ki per count-second,
+// Kd in duty fraction * s per count, at rate_hz samples/s with units_per_count position units
+// per ADC count. ok is false when a gain does not fit its format.
+struct PidGainsResult {
+  PidGains gains;
+  bool ok;
+};
+// duty_per_count * 32768 * 2^frac * scale_num / (scale_den * units_per_count), rounded
+constexpr int64_t pid_gain(Ratio duty_per_count, int frac, int64_t scale_num, int64_t scale_den, int32_t units_per_count) {
+  return div_round(duty_per_count.num * 32768 * ((int64_t)1 << frac) * scale_num,
+                   duty_per_count.den * scale_den * units_per_count);
+}
+constexpr bool pid_fits(int64_t g) { return g >= 0 && g <= 32767; }
+constexpr PidGainsResult pid_gains(Ratio kp, Ratio ki_per_s, Ratio kd_s, int32_t rate_hz, int32_t units_per_count) {
+  return PidGainsResult{
+      PidGains{(int16_t)pid_gain(kp, 4, 1, 1, units_per_count), (int16_t)pid_gain(ki_per_s, 8, 1, rate_hz, units_per_count),
+               (int16_t)pid_gain(kd_s, 0, rate_hz, 1, units_per_count)},
+      pid_fits(pid_gain(kp, 4, 1, 1, units_per_count)) && pid_fits(pid_gain(ki_per_s, 8, 1, rate_hz, units_per_count)) &&
+          pid_fits(pid_gain(kd_s, 0, rate_hz, 1, units_per_count))};
+}
+
+class Pid {
+ public:
+  PidStatus configure(const PidConfig& c) {
+    const PidStatus s = pid_check(c);
+    if (s != PidStatus::ok) return s;
+    c_ = c;
+    // dead-zone inverse slope (out_max - min) / out_max in Q15, computed once
+    slope_q15_ = (uint16_t)(((int32_t)(c.out_max_q15 - c.min_duty_q15) << 15) / c.out_max_q15);
+    configured_ = true;
+    start(0, 0, 0);
+    return s;
+  }
+
+  // Bumpless start: the next update with the same inputs outputs applied_effort_q15 (plus one
+  // sample of integration).
+  void start(int32_t setpoint, int32_t measurement, int16_t applied_effort_q15) {
+    m_prev_ = measurement;
+    effort_ = (int16_t)clamp_i32(applied_effort_q15, -c_.out_max_q15, c_.out_max_q15);
+    const int16_t e = saturate_i16(sub_saturated(setpoint, measurement));
+    const int32_t p_q19 = fx::mul_ss(e, c_.gains.kp_q4);
+    integral_q23_ = clamp_integral(((int32_t)effort_ << 8) - clamp_i32(p_q19, -kTermLimit, kTermLimit) * 16);
+  }
+
+  // One sample: the duty (Q15, signed) to apply.
+  int16_t update(int32_t setpoint, int32_t measurement) {
+    if (!configured_) return 0;
+    const int16_t e = saturate_i16(sub_saturated(setpoint, measurement));
+    const int16_t dm = saturate_i16(sub_saturated(measurement, m_prev_));
+    m_prev_ = measurement;
+    // P and D in Q19, each clamped far beyond full output (2^26 = 128 x full) before summing
+    const int32_t p = clamp_i32(fx::mul_ss(e, c_.gains.kp_q4), -kTermLimit, kTermLimit);
+    const int32_t d = clamp_i32(fx::mul_ss(dm, c_.gains.kd), -kTermLimit / 16, kTermLimit / 16) * 16;
+    const int32_t pd = p - d;
+    const int32_t di = fx::mul_ss(e, c_.gains.ki_q8);  // Q23
+    const int32_t limit = (int32_t)c_.out_max_q15 << 4;
+    const int32_t hi = clamp_i32(((int32_t)effort_ + c_.rate_q15) << 4, -limit, limit);
+    const int32_t lo = clamp_i32(((int32_t)effort_ - c_.rate_q15) << 4, -limit, limit);
+    const int32_t trial = clamp_integral(integral_q23_ + di);
+    const int32_t u_trial = pd + (trial >> 4);
+    // conditional integration: hold the integral when it would push further into a limit
+    if (!((u_trial > hi && di > 0) || (u_trial < lo && di < 0))) integral_q23_ = trial;
+    const int32_t u = clamp_i32(pd + (integral_q23_ >> 4), lo, hi);
+    effort_ = (int16_t)((u + 8) >> 4);
+    return duty_for(effort_);
+  }
+
+  // Effort -> duty through the dead-zone inverse (also usable alone, e.g. by the relay).
+  int16_t duty_for(int16_t effort_q15) const {
+    const int16_t a = effort_q15 < 0 ? (int16_t)-effort_q15 : effort_q15;
+    if (a == 0 || a < c_.zero_band_q15) return 0;
+    const int16_t d = (int16_t)(c_.min_duty_q15 + shr15_to_i16((int32_t)fx::mul_uu((uint16_t)a, slope_q15_)));
+    return effort_q15 < 0 ? (int16_t)-d : d;
+  }
+
+  int16_t effort_q15() const { return effort_; }
+  int32_t integral_q23() const { return integral_q23_; }
+
+ private:
+  static constexpr int32_t kTermLimit = (int32_t)1 << 26;  // Q19: 128 x full output
+
+  int32_t clamp_integral(int32_t i) const {
+    const int32_t limit = (int32_t)c_.out_max_q15 << 8;
+    return clamp_i32(i, -limit, limit);
+  }
+
+  PidConfig c_{{0, 0, 0}, 1, 1, 0, 0};
+  bool configured_ = false;
+  uint16_t slope_q15_ = 32768;
+  int32_t m_prev_ = 0;
+  int16_t effort_ = 0;
+  int32_t integral_q23_ = 0;
+};
+
+}  // namespace control
+}  // namespace wmra

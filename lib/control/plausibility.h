@@ -1,0 +1,144 @@
+// Plausibility checks on a DC joint, which the firmware turns into faults (SPEC 6): fed once
+// per sample with the duty it applied and the position it read, it raises latched flags for
+//   stall       the drive is at or above drive_threshold (saturated) for stall_samples and the
+//               joint has not moved stall_progress units forward in that window;
+//   sign_error  under that drive the joint moves against it by sign_distance units (measured
+//               from the furthest point it reached forward), after a grace period that lets
+//               it coast out of its previous motion when the drive reverses;
+//   jump        the reading changes by more than max_step units in one sample: faster than
+//               the joint can move (a wiper lifting, a broken wire, a noisy channel);
+//   rail        the reading is outside [rail_low, rail_high] for rail_samples samples in a row
+//               (an open or shorted potentiometer reads at a rail).
+// A rail or jump sample is not used for the motion checks. The checks use only comparisons and
+// 32-bit sums. Flags stay set until reset().
+#pragma once
+
+#include <stdint.h>
+
+#include "control/control_math.h"
+
+namespace wmra {
+namespace control {
+
+enum PlausibilityFault : uint8_t {
+  kFaultStall = 1,
+  kFaultSignError = 2,
+  kFaultJump = 4,
+  kFaultRail = 8,
+};
+
+struct PlausibilityConfig {
+  int16_t drive_threshold_q15;  // |duty| at or above which the joint must move, > 0
+  uint16_t stall_samples;       // > 0
+  int32_t stall_progress;       // units forward within stall_samples, > 0
+  uint16_t sign_grace_samples;  // after a reversal of the drive
+  int32_t sign_distance;        // units against the drive, > 0
+  int32_t max_step;             // largest plausible |change| per sample, > 0
+  int32_t rail_low;             // readings below are a rail
+  int32_t rail_high;            // readings above are a rail
+  uint8_t rail_samples;         // > 0
+};
+
+enum class PlausibilityStatus : uint8_t { ok = 0, invalid };
+
+constexpr PlausibilityStatus plausibility_check(const PlausibilityConfig& c) {
+  return (c.drive_threshold_q15 <= 0 || c.stall_samples == 0 || c.stall_progress <= 0 || c.sign_distance <= 0 ||
+          c.max_step <= 0 || c.rail_low >= c.rail_high || c.rail_samples == 0)
+             ? PlausibilityStatus::invalid
+             : PlausibilityStatus::ok;
+}
+
+class PlausibilityMonitor {
+ public:
+  PlausibilityStatus configure(const PlausibilityConfig& c) {
+    const PlausibilityStatus s = plausibility_check(c);
+    if (s != PlausibilityStatus::ok) return s;
+    c_ = c;
+    configured_ = true;
+    reset(0);
+    return s;
+  }
+
+  // Clears the flags; position is the present reading.
+  void reset(int32_t position) {
+    faults_ = 0;
+    prev_ = position;
+    have_prev_ = false;
+    drive_dir_ = 0;
+    rail_count_ = 0;
+  }
+
+  // One sample: the duty applied during the sample that ends now, and the reading. Returns
+  // the latched flags.
+  uint8_t update(int16_t duty_q15, int32_t position) {
+    if (!configured_) return faults_;
+    if (position < c_.rail_low || position > c_.rail_high) {
+      if (rail_count_ < 255) ++rail_count_;
+      if (rail_count_ >= c_.rail_samples) faults_ |= kFaultRail;
+      drive_dir_ = 0;  // restart the motion checks on good data
+      return faults_;
+    }
+    rail_count_ = 0;
+    if (have_prev_ && magnitude_u32(sub_saturated(position, prev_)) > (uint32_t)c_.max_step) {
+      faults_ |= kFaultJump;
+      prev_ = position;
+      drive_dir_ = 0;
+      return faults_;
+    }
+    prev_ = position;
+    have_prev_ = true;
+
+    const int8_t dir = duty_q15 >= c_.drive_threshold_q15 ? 1 : duty_q15 <= -c_.drive_threshold_q15 ? -1 : 0;
+    if (dir == 0) {
+      drive_dir_ = 0;
+      return faults_;
+    }
+    if (dir != drive_dir_) {  // a new window of saturated drive
+      drive_dir_ = dir;
+      stall_anchor_ = position;
+      stall_count_ = 0;
+      grace_ = c_.sign_grace_samples;
+      peak_ = position;
+      return faults_;
+    }
+    // forward motion of the joint, in the drive's sense
+    const int32_t forward = dir > 0 ? sub_saturated(position, stall_anchor_) : sub_saturated(stall_anchor_, position);
+    if (forward >= c_.stall_progress) {
+      stall_anchor_ = position;
+      stall_count_ = 0;
+    } else if (++stall_count_ >= c_.stall_samples) {
+      faults_ |= kFaultStall;
+      stall_count_ = c_.stall_samples;
+    }
+    if (grace_ > 0) {
+      --grace_;
+      peak_ = position;
+    } else {
+      const int32_t ahead = dir > 0 ? sub_saturated(position, peak_) : sub_saturated(peak_, position);
+      if (ahead > 0) {
+        peak_ = position;
+      } else if (ahead <= -c_.sign_distance) {
+        faults_ |= kFaultSignError;
+      }
+    }
+    return faults_;
+  }
+
+  uint8_t faults() const { return faults_; }
+
+ private:
+  PlausibilityConfig c_{1, 1, 1, 0, 1, 1, 0, 1, 1};
+  bool configured_ = false;
+  uint8_t faults_ = 0;
+  int32_t prev_ = 0;
+  bool have_prev_ = false;
+  int8_t drive_dir_ = 0;
+  int32_t stall_anchor_ = 0;
+  uint16_t stall_count_ = 0;
+  uint16_t grace_ = 0;
+  int32_t peak_ = 0;
+  uint8_t rail_count_ = 0;
+};
+
+}  // namespace control
+}  // namespace wmra

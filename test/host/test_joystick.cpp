@@ -1,0 +1,193 @@
+// Joystick shaping (lib/control/joystick.h): centre calibration, dead zone, square to disc,
+// response curve, rate limit, stuck-at-rail detection and the neutral interlock.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "control/joystick.h"
+
+using namespace wmra::control;
+
+namespace {
+
+JoystickConfig config() {
+  return JoystickConfig{1023, 8, 50, 16, 24, 100,
+                        655,    // 2 % dead zone
+                        9830,   // expo 0.3
+                        33,     // rise: full scale in ~1 s at 1 kHz
+                        164,    // fall: in 0.2 s
+                        100};   // 0.1 s neutral to arm
+}
+
+// a calibrated, armed joystick with centre (cx, cy)
+Joystick ready(uint16_t cx = 515, uint16_t cy = 505) {
+  Joystick j;
+  EXPECT_TRUE(j.configure(config()));
+  std::mt19937 rng(1);
+  std::uniform_int_distribution<int> noise(-3, 3);
+  for (int i = 0; i < 16; ++i) j.update((uint16_t)(cx + noise(rng)), (uint16_t)(cy + noise(rng)));
+  for (int i = 0; i < 100; ++i) j.update(cx, cy);
+  EXPECT_EQ(j.update(cx, cy).status, 0);
+  return j;
+}
+
+JoystickOutput hold(Joystick& j, uint16_t x, uint16_t y, int samples) {
+  JoystickOutput o{};
+  for (int i = 0; i < samples; ++i) o = j.update(x, y);
+  return o;
+}
+
+}  // namespace
+
+TEST(Joystick, CentreCalibration) {
+  Joystick j = ready(515, 505);
+  EXPECT_NEAR(j.centre(0), 515, 1);
+  EXPECT_NEAR(j.centre(1), 505, 1);
+  // a stick that moves while calibrating is refused until it is still
+  Joystick moving;
+  ASSERT_TRUE(moving.configure(config()));
+  for (int i = 0; i < 160; ++i) {
+    const JoystickOutput o = moving.update((uint16_t)(480 + (i % 16) * 5), 512);
+    EXPECT_TRUE(o.status & kJoystickCalibrating);
+  }
+  // deflected at power-up: refused
+  Joystick deflected;
+  ASSERT_TRUE(deflected.configure(config()));
+  const JoystickOutput o = hold(deflected, 700, 512, 200);
+  EXPECT_TRUE(o.status & kJoystickCalibrating);
+  EXPECT_EQ(o.x_q15, 0);
+  // and refuses garbage configuration
+  JoystickConfig bad = config();
+  bad.rise_q15 = 0;
+  EXPECT_FALSE(Joystick().configure(bad));
+}
+
+TEST(Joystick, NoOutputUntilNeutral) {
+  Joystick j;
+  ASSERT_TRUE(j.configure(config()));
+  hold(j, 512, 512, 16);  // calibrated
+  // pushed right away: nothing comes out
+  JoystickOutput o = hold(j, 1000, 512, 500);
+  EXPECT_EQ(o.x_q15, 0);
+  EXPECT_TRUE(o.status & kJoystickNotArmed);
+  hold(j, 512, 512, 99);
+  EXPECT_TRUE(j.update(512, 512).status == 0);  // 100 neutral samples
+  o = hold(j, 1000, 512, 2000);
+  EXPECT_GT(o.x_q15, 30000);
+}
+
+TEST(Joystick, DeadZoneIsContinuous) {
+  Joystick j = ready(512, 512);
+  // 2 % of a ~500-count side is 10 counts
+  const uint16_t cx = j.centre(0), cy = j.centre(1);
+  EXPECT_EQ(hold(j, cx + 10, cy, 2000).x_q15, 0);
+  EXPECT_EQ(hold(j, cx - 10, cy, 2000).x_q15, 0);
+  const int16_t just_out = hold(j, cx + 11, cy, 2000).x_q15;
+  EXPECT_GT(just_out, 0);
+  EXPECT_LT(just_out, 100);  // no jump at the edge: about 1 count past it
+  EXPECT_EQ(hold(j, cx + 11, cy, 1).y_q15, 0);
+  EXPECT_EQ(hold(j, cx + 300, cy + 8, 2000).y_q15, 0);  // per axis: no drift in y
+}
+
+TEST(Joystick, FullDeflectionEachSideIsOne) {
+  Joystick j = ready(540, 490);  // off-centre: the two sides have different spans
+  EXPECT_NEAR(hold(j, 1014, 490, 3000).x_q15, 32767, 40);
+  EXPECT_NEAR(hold(j, 9, 490, 3000).x_q15, -32767, 40);
+  EXPECT_NEAR(hold(j, 540, 1014, 3000).y_q15, 32767, 40);
+  EXPECT_NEAR(hold(j, 540, 9, 3000).y_q15, -32767, 40);
+}
+
+// Square to disc (seed 2): the square's boundary lands on the unit circle, along the same
+// direction; the curve is applied to the radius
+TEST(Joystick, SquareToDisc) {
+  JoystickConfig c = config();
+  c.expo_q15 = 0;
+  Joystick j;
+  ASSERT_TRUE(j.configure(c));
+  for (int i = -32767; i <= 32767; i += 97) {
+    for (const auto& p : {std::make_pair(32767, i), std::make_pair(i, 32767), std::make_pair(-32767, i),
+                          std::make_pair(i, -32767)}) {
+      int16_t out[2];
+      j.shape((int16_t)p.first, (int16_t)p.second, out);
+      const double r = std::hypot(out[0], out[1]);
+      EXPECT_NEAR(r, 32767, 12) << p.first << " " << p.second;
+      const double cross = (double)out[0] * p.second - (double)out[1] * p.first;  // same direction
+      EXPECT_LT(std::abs(cross) / (r * std::hypot(p.first, p.second)), 1e-3);
+      EXPECT_GE((double)out[0] * p.first + (double)out[1] * p.second, 0);
+    }
+  }
+  int16_t out[2];
+  j.shape(16384, 8192, out);  // inside: radius = max(|x|, |y|)
+  EXPECT_NEAR(std::hypot(out[0], out[1]), 16384, 4);
+}
+
+TEST(Joystick, ResponseCurveIsMonotone) {
+  Joystick j;
+  ASSERT_TRUE(j.configure(config()));
+  uint16_t prev = 0;
+  for (uint32_t r = 0; r <= 32767; ++r) {
+    const uint16_t f = j.curve((uint16_t)r);
+    ASSERT_GE(f, prev) << r;
+    ASSERT_LE(f, r);  // expo 0.3: below the line, fine control near the centre
+    prev = f;
+  }
+  EXPECT_EQ(j.curve(0), 0);
+  EXPECT_NEAR(j.curve(32767), 32767, 2);
+  EXPECT_NEAR(j.curve(16384), 0.7 * 16384 + 0.3 * 32768 / 8.0, 3);  // (1 - k) r + k r^3 at r = 1/2
+}
+
+TEST(Joystick, RateLimitedNoStepChanges) {
+  Joystick j = ready(512, 512);
+  int16_t prev = 0;
+  for (int i = 0; i < 1500; ++i) {  // slam to full, hold
+    const JoystickOutput o = j.update(1014, 512);
+    EXPECT_LE(o.x_q15 - prev, 33);
+    EXPECT_GE(o.x_q15, prev);
+    prev = o.x_q15;
+  }
+  EXPECT_GT(prev, 32000);
+  int samples = 0;
+  while (prev != 0) {  // let go: falls at the faster rate
+    const JoystickOutput o = j.update(512, 512);
+    EXPECT_LE(prev - o.x_q15, 164);
+    EXPECT_LE(o.x_q15, prev);
+    prev = o.x_q15;
+    ++samples;
+  }
+  EXPECT_LE(samples, 201);
+  // full right to full left passes through zero at the fall rate, then rises
+  hold(j, 1014, 512, 1500);
+  prev = hold(j, 1014, 512, 1).x_q15;
+  for (int i = 0; i < 2000; ++i) {
+    const int16_t x = j.update(9, 512).x_q15;
+    EXPECT_LE(std::abs(x - prev), 164);
+    prev = x;
+  }
+  EXPECT_LT(prev, -32000);
+}
+
+TEST(Joystick, ChannelStuckAtARailReadsNeutralAndFaults) {
+  Joystick j = ready(512, 512);
+  hold(j, 800, 800, 1500);  // moving diagonally
+  // a 30 ms glitch to the rail on x: x reads neutral (ramps down), y goes on, no fault
+  JoystickOutput o = hold(j, 1023, 800, 30);
+  EXPECT_EQ(o.status, 0);
+  EXPECT_GT(o.y_q15, 10000);
+  o = hold(j, 800, 800, 2000);
+  EXPECT_GT(o.x_q15, 10000);
+  // unplugged: x at 0 for good -> fault after 50 samples, everything to neutral
+  o = hold(j, 0, 800, 50);
+  EXPECT_TRUE(o.status & kJoystickRailX);
+  o = hold(j, 0, 800, 400);
+  EXPECT_EQ(o.x_q15, 0);
+  EXPECT_EQ(o.y_q15, 0);
+  // plugged back in while the stick is deflected: still nothing until neutral
+  o = hold(j, 800, 800, 1000);
+  EXPECT_EQ(o.y_q15, 0);
+  EXPECT_TRUE(o.status & kJoystickRailX);
+  hold(j, 512, 512, 100);
+  o = hold(j, 512, 800, 2000);
+  EXPECT_EQ(o.status, 0);
+  EXPECT_GT(o.y_q15, 10000);
+}
