@@ -10,7 +10,8 @@ double sign(double x) { return x > 0 ? 1.0 : x < 0 ? -1.0 : 0.0; }
 }  // namespace
 
 bool drive_step(DriveState& s, double inertia_kgm2, const DriveFriction& f, double motor_nm, double load_nm,
-                bool self_locking, double stop_low_rad, double stop_high_rad, double dt) {
+                bool self_locking, double stop_low_rad, double stop_high_rad, double dt,
+                double overrun_inertia_kgm2) {
   const double w = s.speed_rad_s;
   // the way the drive moves, or at rest the way it is pushed
   const double way = w != 0 ? sign(w) : sign(self_locking ? motor_nm : motor_nm + load_nm);
@@ -28,7 +29,8 @@ bool drive_step(DriveState& s, double inertia_kgm2, const DriveFriction& f, doub
     }
   } else {
     const double net = motor_nm + load - sign(w) * f.coulomb_nm - f.viscous_nm_per_rad_s * w;
-    w_new = w + net / inertia_kgm2 * dt;
+    const double inertia = (self_locking && net * w < 0) ? inertia_kgm2 - overrun_inertia_kgm2 : inertia_kgm2;
+    w_new = w + net / inertia * dt;
     if (w_new * w < 0) w_new = 0;  // friction stops it; it may break away again next step
   }
   s.speed_rad_s = w_new;

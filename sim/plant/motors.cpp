@@ -33,9 +33,9 @@ double DcJoint::current_a() const {
 
 void DcJoint::step(double dt, double link_inertia_kgm2, double load_torque_nm) {
   const DriveFriction f{kDcStaticFrictionNm, kDcCoulombFrictionNm, kDcViscousNmPerRadS};
-  const double inertia = kDcAssemblyInertiaKgm2 + link_inertia_kgm2 / (gear_ * gear_);
-  against_stop_ = drive_step(s_, inertia, f, motor_torque_nm(), load_torque_nm / gear_, self_locking_, stop_low_,
-                             stop_high_, dt);
+  const double load_inertia = link_inertia_kgm2 / (gear_ * gear_);
+  against_stop_ = drive_step(s_, kDcAssemblyInertiaKgm2 + load_inertia, f, motor_torque_nm(), load_torque_nm / gear_,
+                             self_locking_, stop_low_, stop_high_, dt, load_inertia);
 }
 
 // --- stepper joint

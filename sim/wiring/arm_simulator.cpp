@@ -309,13 +309,37 @@ double ArmSimulator::gripper_pulse_us() const {
 
 void ArmSimulator::apply_inputs() {
   const uint64_t cycle = core_->cycle();
+  bool changed[11] = {};
   for (auto& in : inputs_) {
     const int level = in->level() ? 1 : 0;
     if (level == in->driven) continue;
     in->driven = level;
-    avr_raise_irq(in->irq, level);
+    changed[(int)in->pin.port] = true;
     if (vcd_) vcd_->set(in->vcd, cycle, level != 0);
   }
+  for (int port = 0; port < 11; ++port) {
+    if (changed[port]) declare_external((b::Port)port);
+  }
+  for (auto& in : inputs_) {
+    if (changed[(int)in->pin.port]) avr_raise_irq(in->irq, in->driven);
+  }
+}
+
+// simavr 1.6 raises an input pin with PORT = 1 (pull-up on) to 1 whenever the firmware writes the
+// port, whatever drives it from outside, unless the port's "external" state names the pin: so
+// every pin the board drives is declared there with its level.
+void ArmSimulator::declare_external(b::Port port) {
+  avr_ioport_external_t e{};
+  e.name = m2560::port_letter(port);
+  unsigned mask = 0, value = 0;
+  for (const auto& in : inputs_) {
+    if (in->pin.port != port || in->driven < 0) continue;
+    mask |= 1u << in->pin.bit;
+    value |= (unsigned)in->driven << in->pin.bit;
+  }
+  e.mask = mask;
+  e.value = value;
+  avr_ioctl(core_->avr(), AVR_IOCTL_IOPORT_SET_EXTERNAL(e.name), &e);
 }
 
 void ArmSimulator::set_joystick(double x, double y) { plant_.set_stick(x, y); }
@@ -473,10 +497,15 @@ void ArmSimulator::after_reset() {
   // simavr's reset cancelled every cycle timer and cleared the PIN registers
   avr_cycle_timer_register(avr, step_cycles_ - avr->cycle % step_cycles_, &ArmSimulator::plant_tick, this);
   if (uart_armed_) avr_cycle_timer_register(avr, 1, &ArmSimulator::uart_tick, this);
+  bool ports[11] = {};
   for (auto& in : inputs_) {
     if (in->driven < 0) continue;
     uint8_t& reg = avr->data[in->pin_reg];
     reg = (uint8_t)((reg & ~(1u << in->pin.bit)) | ((unsigned)in->driven << in->pin.bit));
+    ports[(int)in->pin.port] = true;
+  }
+  for (int port = 0; port < 11; ++port) {
+    if (ports[port]) declare_external((b::Port)port);
   }
   for (auto& c : compares_) {
     c->oc = false;

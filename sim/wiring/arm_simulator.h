@@ -24,6 +24,7 @@
 #include "wiring/avr_core.h"
 #include "wiring/vcd.h"
 #include "plant/arm_plant.h"
+#include "wmra_mega/board.h"
 #include "sim_irq.h"
 
 namespace wmra {
@@ -139,6 +140,7 @@ class ArmSimulator {
   void plant_step(uint64_t when);
   void update_outputs();
   void apply_inputs();
+  void declare_external(board::Port port);
   void check_estop();
   bool out_level(const OutPin& p) const;
   bool compare_level(const OutPin& p, const Compare& c) const;

@@ -104,6 +104,22 @@ TEST(DcJoint, LowersAtTheMotorsSpeedNotGravitys) {
   EXPECT_NEAR(up.qd(), left_over / (kDcStallTorqueNm / kDcNoLoadSpeedRadS + kDcViscousNmPerRadS) / kGearRatio[1], 0.01);
 }
 
+TEST(DcJoint, WormStopsTheArmWithTheMotor) {
+  // unpowered, the arm's inertia cannot drive the worm: it stops as fast as the motor does
+  const double link_inertia = 3.0;
+  DcJoint worm = dc_joint(1, true), spur = dc_joint(1, false);
+  for (DcJoint* d : {&worm, &spur}) {
+    d->set_voltage(12);
+    run_dc(*d, 1.0, link_inertia, 0);
+    d->set_voltage(0);
+  }
+  const double tau = kDcAssemblyInertiaKgm2 / (kDcStallTorqueNm / kDcNoLoadSpeedRadS);
+  run_dc(worm, 5 * tau, link_inertia, 0);
+  run_dc(spur, 5 * tau, link_inertia, 0);
+  EXPECT_EQ(worm.qd(), 0.0);
+  EXPECT_GT(spur.qd(), 0.05);
+}
+
 TEST(DcJoint, HardStopPastTheLimit) {
   DcJoint d = dc_joint(3);
   d.set_voltage(12);
