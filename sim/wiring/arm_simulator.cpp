@@ -108,21 +108,23 @@ ArmSimulator::ArmSimulator(const SimConfig& config)
   core_->on_reset([this] { after_reset(); });
   avr_cycle_timer_register(core_->avr(), step_cycles_, &ArmSimulator::plant_tick, this);
   apply_inputs();
-  update_outputs();
+  update_outputs(true, true);
 }
 
 ArmSimulator::~ArmSimulator() = default;
 
-void ArmSimulator::watch(avr_irq_t* irq) {
-  watches_.emplace_back(new Watch{this, irq->value});
+void ArmSimulator::watch(avr_irq_t* irq, bool steppers, bool probe) {
+  watches_.emplace_back(new Watch{this, irq->value, steppers, probe});
   avr_irq_register_notify(irq, &ArmSimulator::on_output_irq, watches_.back().get());
 }
 
 void ArmSimulator::wire() {
   avr_t* avr = core_->avr();
-  auto out_pin = [&](b::Pin p, bool pulled_high) {
+  // outputs: `watched` pins re-evaluate the steppers' or the probe's levels when they change
+  enum Watched { none, stepper, probe };
+  auto out_pin = [&](b::Pin p, bool pulled_high, Watched watched) {
     OutPin o{p, pin_irq(avr, p), m2560::ddr_register(p.port), m2560::port_register(p.port), pulled_high};
-    watch(o.irq);
+    if (watched != none) watch(o.irq, watched == stepper, watched == probe);
     return o;
   };
   auto compare = [&](b::ComparePin p) {
@@ -140,15 +142,16 @@ void ArmSimulator::wire() {
   auto watch_port = [&](b::Port port) {
     if (port_watched[(int)port]) return;
     port_watched[(int)port] = true;
-    watch(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(m2560::port_letter(port)), IOPORT_IRQ_DIRECTION_ALL));
+    watch(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(m2560::port_letter(port)), IOPORT_IRQ_DIRECTION_ALL), true, true);
   };
 
   // steppers: DRV8825 EN has a pull-up (disabled until driven low), STEP and DIR pull-downs
   const b::StepperPins* pins[3] = {&b::kStepperJ1, &b::kStepperJ5, &b::kStepperJ6};
   for (int slot = 0; slot < 3; ++slot) {
     const b::StepperPins& p = *pins[slot];
-    std::unique_ptr<Stepper> s(new Stepper{plant::kStepperJoints[slot], out_pin(p.enable, true), out_pin(p.dir, false),
-                                           out_pin(p.step.pin, false), compare(p.step)});
+    std::unique_ptr<Stepper> s(new Stepper{plant::kStepperJoints[slot], out_pin(p.enable, true, stepper),
+                                           out_pin(p.dir, false, stepper), out_pin(p.step.pin, false, stepper),
+                                           compare(p.step)});
     for (b::Port port : {p.enable.port, p.dir.port, p.step.pin.port}) watch_port(port);
     if (p.step.timer != b::Timer::t5) throw std::logic_error("the simulator models the STEP outputs on Timer5");
     if (vcd_) {
@@ -167,7 +170,7 @@ void ArmSimulator::wire() {
   const b::BridgePins* bridges[3] = {&b::kBridgeJ2, &b::kBridgeJ3, &b::kBridgeJ4};
   for (int i = 0; i < 3; ++i) {
     std::unique_ptr<Bridge> br(new Bridge{plant::kDcJoints[i],
-                                          {out_pin(bridges[i]->left.pin, false), out_pin(bridges[i]->right.pin, false)},
+                                          {out_pin(bridges[i]->left.pin, false, none), out_pin(bridges[i]->right.pin, false, none)},
                                           {compare(bridges[i]->left), compare(bridges[i]->right)}});
     if (vcd_) {
       const std::string scope = std::string("bridge_") + joint_name(br->joint);
@@ -178,7 +181,7 @@ void ArmSimulator::wire() {
   }
 
   gripper_ = compare(b::kGripperServo);
-  probe_.reset(new OutPin(out_pin(b::kTimingProbe, false)));
+  probe_.reset(new OutPin(out_pin(b::kTimingProbe, false, probe)));
   watch_port(b::kTimingProbe.port);
   if (vcd_) vcd_probe_ = vcd_->wire("board", "D49_probe");
 
@@ -219,20 +222,22 @@ bool ArmSimulator::out_level(const OutPin& p) const {
   return (d[p.port] >> p.pin.bit) & 1;
 }
 
-bool ArmSimulator::compare_level(const OutPin& p, const Compare& c) const {
+bool ArmSimulator::compare_level(const OutPin& p, const Compare& c, const m2560::TimerSnapshot& timer) const {
   const avr_t* avr = core_->avr();
   if (!((avr->data[p.ddr] >> p.pin.bit) & 1)) return p.pulled_high;
-  const m2560::PinDrive drive = m2560::compare_pin_drive(snapshot(avr, c.pin.timer), c.pin.channel);
+  const m2560::PinDrive drive = m2560::compare_pin_drive(timer, c.pin.channel);
   if (drive.source == m2560::PinDrive::Source::port) return (avr->data[p.port] >> p.pin.bit) & 1;
   return c.oc;
 }
 
-void ArmSimulator::update_outputs() {
+void ArmSimulator::update_outputs(bool steppers, bool probe_pin) {
   const uint64_t cycle = core_->cycle();
   const double t = (double)cycle / m2560::kCpuHz;
   bool enable_changed = false;
+  const m2560::TimerSnapshot timer5 = snapshot(core_->avr(), b::Timer::t5);
   for (auto& s : steppers_) {
-    const bool en = out_level(s->en), dir = out_level(s->dir), step = compare_level(s->step, *s->compare);
+    if (!steppers) break;
+    const bool en = out_level(s->en), dir = out_level(s->dir), step = compare_level(s->step, *s->compare, timer5);
     if (en == s->en_level && dir == s->dir_level && step == s->step_level) continue;
     enable_changed |= en != s->en_level;
     // DIR before STEP: the driver samples DIR on the STEP edge
@@ -247,7 +252,7 @@ void ArmSimulator::update_outputs() {
     plant_.set_stepper_pins(s->joint, en, dir, step, t);
   }
   const bool probe = out_level(*probe_);
-  if (probe != probe_level_) {
+  if (probe_pin && probe != probe_level_) {
     probe_level_ = probe;
     if (vcd_) vcd_->set(vcd_probe_, cycle, probe);
     if (probe) {
@@ -380,7 +385,7 @@ void ArmSimulator::on_output_irq(avr_irq_t*, uint32_t value, void* param) {
   Watch* w = static_cast<Watch*>(param);
   if (w->last == value) return;
   w->last = value;
-  w->sim->update_outputs();
+  w->sim->update_outputs(w->steppers, w->probe);
 }
 
 void ArmSimulator::on_compare(avr_irq_t*, uint32_t value, void* param) {
@@ -394,7 +399,7 @@ void ArmSimulator::on_compare(avr_irq_t*, uint32_t value, void* param) {
   } else {
     c->oc = value & 1;  // PWM modes: simavr's own waveform
   }
-  if (c->pin.timer == b::Timer::t5) c->sim->update_outputs();
+  if (c->pin.timer == b::Timer::t5) c->sim->update_outputs(true, false);
 }
 
 void ArmSimulator::on_timer5_write(avr_t* avr, avr_io_addr_t addr, uint8_t v, void* param) {
@@ -413,7 +418,7 @@ void ArmSimulator::on_timer5_write(avr_t* avr, avr_io_addr_t addr, uint8_t v, vo
     }
     avr->data[addr] = v & 0x1F;  // FOC bits read as zero
   }
-  sim->update_outputs();
+  sim->update_outputs(true, false);
 }
 
 void ArmSimulator::on_adc_trigger(avr_irq_t*, uint32_t value, void* param) {
@@ -511,7 +516,7 @@ void ArmSimulator::after_reset() {
     c->oc = false;
     avr_unconnect_irq(c->compare_irq, c->pin_irq);  // simavr's timer reset connected them again
   }
-  update_outputs();
+  update_outputs(true, true);
 }
 
 // --- time

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "wiring/avr_core.h"
+#include "wiring/timer_decode.h"
 #include "wiring/vcd.h"
 #include "plant/arm_plant.h"
 #include "wmra_mega/board.h"
@@ -135,15 +136,15 @@ class ArmSimulator {
   static void on_uart_flow(avr_irq_t* irq, uint32_t value, void* param);
 
   void wire();
-  void watch(avr_irq_t* irq);
+  void watch(avr_irq_t* irq, bool steppers, bool probe);
   void after_reset();
   void plant_step(uint64_t when);
-  void update_outputs();
+  void update_outputs(bool steppers, bool probe);
   void apply_inputs();
   void declare_external(board::Port port);
   void check_estop();
   bool out_level(const OutPin& p) const;
-  bool compare_level(const OutPin& p, const Compare& c) const;
+  bool compare_level(const OutPin& p, const Compare& c, const m2560::TimerSnapshot& timer) const;
   double compare_duty(const Bridge& b, bool left) const;
 
   SimConfig config_;
@@ -159,6 +160,7 @@ class ArmSimulator {
   struct Watch {
     ArmSimulator* sim;
     uint32_t last;
+    bool steppers, probe;  // what a change re-evaluates
   };
   std::vector<std::unique_ptr<Watch>> watches_;
   bool probe_level_ = false;

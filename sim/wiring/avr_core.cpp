@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "atmega2560.h"
+#include "avr_extint.h"
 #include "avr_uart.h"
 #include "probe_ports.h"
 #include "sim_elf.h"
@@ -73,6 +74,7 @@ AvrCore::AvrCore(const std::string& elf_path) {
     }
   }
   avr_register_io_write(avr_, WMRA_PROBE_CONSOLE_IO + WMRA_PROBE_DATA_OFFSET, &AvrCore::console_write, this);
+  no_level_polling();
   min_sp_ = m2560::kRamEnd;
 }
 
@@ -113,7 +115,17 @@ void AvrCore::logger(avr_t* avr, const int level, const char* format, va_list ap
 
 uint32_t AvrCore::stack_high_water_bytes() const { return m2560::kRamEnd - min_sp_; }
 
+// simavr polls a low-level external interrupt pin on every cycle while the pin is low, from the
+// moment it goes low in level mode (the mode after reset) and, in 1.6, even after the firmware
+// has switched that INT to edge mode: the safety button (INT4, low while not pressed) alone
+// halves the simulator's speed. Without the polling a level-mode INT fires once per falling
+// edge, like an edge interrupt.
+void AvrCore::no_level_polling() {
+  for (uint8_t i = 0; i < 8; ++i) avr_extint_set_strict_lvl_trig(avr_, i, 0);
+}
+
 void AvrCore::after_reset(const std::string& cause) {
+  no_level_polling();  // the reset turned it back on
   active_.clear();
   resets_.push_back({avr_->cycle, cause});
   for (auto& listener : reset_listeners_) listener();

@@ -7,6 +7,8 @@
 //   - its UARTs poll-sleep and print lines on the console by default: both flags cleared;
 //   - avr_reset() (a watchdog bite) cancels every cycle timer and clears the PIN registers: the
 //     reset listeners re-arm what they need (see ArmSimulator);
+//   - its external interrupts poll a low pin every cycle in level mode: turned off (see
+//     no_level_polling);
 //   - one avr_run() call executes one instruction (or one sleep interval up to the next cycle
 //     timer), then services interrupts: interrupt entry is seen as the PC landing on a vector.
 #pragma once
@@ -70,6 +72,7 @@ class AvrCore {
   static void console_write(avr_t* avr, avr_io_addr_t addr, uint8_t v, void* param);
   static void logger(avr_t* avr, const int level, const char* format, va_list ap);
   void after_reset(const std::string& cause);
+  void no_level_polling();
 
   avr_t* avr_ = nullptr;
   void (*core_reset_)(avr_t*) = nullptr;
