@@ -109,9 +109,25 @@ ArmSimulator::ArmSimulator(const SimConfig& config)
   avr_cycle_timer_register(core_->avr(), step_cycles_, &ArmSimulator::plant_tick, this);
   apply_inputs();
   update_outputs(true, true);
+  if (vcd_) {  // every signal's value at time 0
+    for (auto& st : steppers_) {
+      vcd_->set(st->vcd_en, 0, st->en_level);
+      vcd_->set(st->vcd_dir, 0, st->dir_level);
+      vcd_->set(st->vcd_step, 0, st->step_level);
+    }
+    vcd_->set(vcd_probe_, 0, probe_level_);
+    for (auto& br : bridges_) {
+      vcd_->set(br->vcd[0], 0, 0.0);
+      vcd_->set(br->vcd[1], 0, 0.0);
+    }
+    const plant::Joints q = plant_.q();
+    for (int j = 0; j < plant::kJoints; ++j) vcd_->set(vcd_q_[j], 0, q[j]);
+  }
 }
 
-ArmSimulator::~ArmSimulator() = default;
+ArmSimulator::~ArmSimulator() {
+  if (vcd_) vcd_->end_at(core_->cycle());
+}
 
 void ArmSimulator::watch(avr_irq_t* irq, bool steppers, bool probe) {
   watches_.emplace_back(new Watch{this, irq->value, steppers, probe});
@@ -569,7 +585,10 @@ Measurements ArmSimulator::measurements() const {
   m.uart_rx_bytes = uart_rx_;
   m.uart_rx_dropped = uart_dropped_;
   if (core_->state() == cpu_Crashed) m.sim_faults.push_back("the core crashed (simavr state crashed)");
-  if (core_->state() == cpu_Done) m.sim_faults.push_back("the firmware stopped: sleep with interrupts off");
+  if (core_->halted_at()) {
+    m.sim_faults.push_back("the firmware halted (sleep with interrupts off) at " +
+                           std::to_string((double)core_->halted_at() / m2560::kCpuHz) + " s");
+  }
   if (core_->min_stack_pointer() < m2560::kRamStart + core_->static_ram_bytes()) {
     m.sim_faults.push_back("stack overflow into static data");
   }

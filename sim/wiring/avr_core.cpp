@@ -124,6 +124,11 @@ void AvrCore::no_level_polling() {
   for (uint8_t i = 0; i < 8; ++i) avr_extint_set_strict_lvl_trig(avr_, i, 0);
 }
 
+std::string AvrCore::watchdog_cause() const {
+  const uint8_t mcusr = avr_->data[m2560::kMcusr];
+  return (mcusr & 8) ? "watchdog" : (mcusr & 4) ? "brown-out" : (mcusr & 2) ? "external" : "power-on";
+}
+
 void AvrCore::after_reset(const std::string& cause) {
   no_level_polling();  // the reset turned it back on
   active_.clear();
@@ -138,8 +143,7 @@ int AvrCore::step() {
   reset_seen_ = false;
   const int state = avr_run(avr_);
   if (reset_seen_) {
-    const uint8_t mcusr = avr_->data[m2560::kMcusr];
-    after_reset((mcusr & 8) ? "watchdog" : (mcusr & 4) ? "brown-out" : (mcusr & 2) ? "external" : "power-on");
+    after_reset(watchdog_cause());
     return state;
   }
   if (reti) {
@@ -166,7 +170,23 @@ int AvrCore::step() {
 }
 
 int AvrCore::run_until(uint64_t cycle) {
-  while (avr_->cycle < cycle && !stopped()) step();
+  while (avr_->cycle < cycle && avr_->state != cpu_Crashed) {
+    if (avr_->state != cpu_Done) {
+      step();
+      continue;
+    }
+    // Sleep with interrupts off: the CPU is stopped for good, but on the chip the timers, the
+    // PWM and the watchdog run on. Advance time through simavr's cycle timers (the plant's
+    // included) until a reset wakes the core or the time is up.
+    if (!halted_at_) halted_at_ = avr_->cycle;
+    reset_seen_ = false;
+    const avr_cycle_count_t next = avr_cycle_timer_process(avr_);
+    if (reset_seen_) {
+      after_reset(watchdog_cause());
+      continue;
+    }
+    avr_->cycle = next && avr_->cycle + next < cycle ? avr_->cycle + next : cycle;
+  }
   return avr_->state;
 }
 

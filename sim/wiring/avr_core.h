@@ -49,8 +49,11 @@ class AvrCore {
 
   // One instruction (or one sleep interval) with the measurements.
   int step();
-  // Steps until the cycle counter reaches `cycle` or the core stops; returns the state.
+  // Steps until the cycle counter reaches `cycle` or the core crashes; returns the state. A core
+  // halted by sleep with interrupts off keeps its timers (and the watchdog) running.
   int run_until(uint64_t cycle);
+  // the cycle the firmware first halted (sleep with interrupts off), 0 if never
+  uint64_t halted_at() const { return halted_at_; }
 
   // --- measurements
   uint64_t sleep_cycles() const { return sleep_cycles_; }
@@ -72,6 +75,7 @@ class AvrCore {
   static void console_write(avr_t* avr, avr_io_addr_t addr, uint8_t v, void* param);
   static void logger(avr_t* avr, const int level, const char* format, va_list ap);
   void after_reset(const std::string& cause);
+  std::string watchdog_cause() const;
   void no_level_polling();
 
   avr_t* avr_ = nullptr;
@@ -87,6 +91,7 @@ class AvrCore {
   uint32_t static_ram_ = 0;
   uint32_t flash_bytes_ = 0;
   bool reset_seen_ = false;
+  uint64_t halted_at_ = 0;
   std::vector<ResetEvent> resets_;
   std::vector<std::function<void()>> reset_listeners_;
   std::string console_;

@@ -21,6 +21,7 @@ VcdWriter::VcdWriter(const std::string& path, uint32_t cpu_hz) : f_(std::fopen(p
 VcdWriter::~VcdWriter() {
   if (!f_) return;
   begin();
+  if (end_cycle_) at(end_cycle_);
   std::fclose(f_);
 }
 

@@ -23,6 +23,8 @@ class VcdWriter {
   int real(const std::string& scope, const std::string& name);
   void set(int id, uint64_t cycle, bool level);
   void set(int id, uint64_t cycle, double value);
+  // the time the trace ends (written when the writer closes)
+  void end_at(uint64_t cycle) { end_cycle_ = cycle; }
 
  private:
   void begin();
@@ -38,6 +40,7 @@ class VcdWriter {
   std::vector<Signal> signals_;
   bool started_ = false;
   uint64_t last_ns_ = UINT64_MAX;
+  uint64_t end_cycle_ = 0;
 };
 
 }  // namespace sim
