@@ -64,6 +64,7 @@ AvrCore::AvrCore(const std::string& elf_path) {
   std::free(firmware.symbol);
 
   avr_->sleep = &AvrCore::sleep_hook;
+  run_callback_ = avr_->run;
   core_reset_ = avr_->reset;
   avr_->reset = &AvrCore::reset_hook;
   for (char u = '0'; u <= '3'; ++u) {
@@ -181,6 +182,8 @@ int AvrCore::run_until(uint64_t cycle) {
     if (!halted_at_) halted_at_ = avr_->cycle;
     reset_seen_ = false;
     const avr_cycle_count_t next = avr_cycle_timer_process(avr_);
+    // simavr's watchdog resets the core from avr_run: it swaps in its own run callback
+    if (avr_->run != run_callback_) avr_run(avr_);
     if (reset_seen_) {
       after_reset(watchdog_cause());
       continue;

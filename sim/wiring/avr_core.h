@@ -80,6 +80,7 @@ class AvrCore {
 
   avr_t* avr_ = nullptr;
   void (*core_reset_)(avr_t*) = nullptr;
+  avr_run_t run_callback_ = nullptr;
   uint64_t sleep_cycles_ = 0;
   IsrStats isr_[64];
   struct Active {

@@ -168,10 +168,11 @@ TEST(SimWiring, LoopTimeCpuLoadIsrsAndStack) {
   ASSERT_EQ(m.isr.count("TIMER2_OVF"), 1u);
   EXPECT_EQ(m.isr.at("TIMER2_OVF").max_cycles, 3u + 5u + 5u);  // JMP, RETI, response
   EXPECT_NEAR((double)m.isr.at("TIMER2_OVF").count, 1e6 / 1024, 1);
-  ASSERT_EQ(m.isr.count("TIMER1_COMPA"), 1u);
-  EXPECT_NEAR((double)m.isr.at("TIMER1_COMPA").count, 1000, 1);
-  EXPECT_GT(m.isr.at("TIMER1_COMPA").max_cycles, 20u);
-  EXPECT_LT(m.isr.at("TIMER1_COMPA").max_cycles, 60u);
+  ASSERT_EQ(m.isr.count("TIMER1_OVF"), 1u);
+  EXPECT_NEAR((double)m.isr.at("TIMER1_OVF").count, 1000, 1);
+  EXPECT_GT(m.isr.at("TIMER1_OVF").max_cycles, 20u);
+  EXPECT_LT(m.isr.at("TIMER1_OVF").max_cycles, 60u);
+  EXPECT_DOUBLE_EQ(sim.gripper_pulse_us(), 500.0);
   EXPECT_GE(m.stack_bytes, 200u);
   EXPECT_LT(m.stack_bytes, 240u);
   EXPECT_GT(m.ram_static_bytes, 0u);
@@ -200,6 +201,17 @@ TEST(SimWiring, SerialEchoWatchdogResetAndInputsAfterIt) {
   EXPECT_EQ(m.uart_rx_dropped, 0u);
   // the plant kept its time through the reset
   EXPECT_NEAR(sim.plant().time_s(), 0.2, 21e-6);
+
+  // halted with the watchdog on (sleep, interrupts off): the watchdog still bites
+  sim.send_serial({'H'});
+  sim.run_until(0.3);
+  out.assign(sim.uart_output().begin(), sim.uart_output().end());
+  EXPECT_EQ(out.substr(out.size() - 18), "Hboot 08 3e 0e 20\n");
+  const sim::Measurements after = sim.measurements();
+  ASSERT_EQ(after.resets.size(), 2u);
+  EXPECT_EQ(after.resets[1].cause, "watchdog");
+  ASSERT_EQ(after.sim_faults.size(), 1u);
+  EXPECT_NE(after.sim_faults[0].find("halted"), std::string::npos);
 }
 
 // The buttons bounce; the firmware's edge interrupts see every bounce.

@@ -1,7 +1,8 @@
 // UART0 at 115200 baud: at boot "boot MCUSR PINB PIND PINE" in hex (the reset cause and the
 // switch inputs), then an echo of what arrives (RX interrupt). A 'W' starts the watchdog
-// (15 ms) and hangs: the simulator must count the reset, and the inputs must read the same
-// after it.
+// (15 ms) and hangs in a loop, an 'H' starts it and halts (sleep with interrupts off): the
+// simulator must count each reset, and the inputs must read the same after it.
+#include <avr/sleep.h>
 #include <avr/wdt.h>
 
 #include "board_io.h"
@@ -52,6 +53,14 @@ int main() {
         wdt_enable(WDTO_15MS);
         for (;;) {
         }
+      }
+      if (c == 'H') {
+        while (!(UCSR0A & (1 << TXC0))) {
+        }
+        wdt_enable(WDTO_15MS);
+        cli();
+        sleep_enable();
+        sleep_cpu();
       }
     }
   }
