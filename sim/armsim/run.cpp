@@ -121,6 +121,9 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
   if (options.telemetry) result.faults = options.telemetry->faults();
 
   if (!options.out_dir.empty()) {
+    FILE* serial = open_for_writing(options.out_dir + "/serial_out.bin");
+    std::fwrite(result.uart_output.data(), 1, result.uart_output.size(), serial);
+    std::fclose(serial);
     write_trajectory_csv(options.out_dir + "/trajectory.csv", result.trajectory);
     write_summary_json(options.out_dir + "/summary.json", result, scenario, options);
   }

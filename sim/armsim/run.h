@@ -2,6 +2,7 @@
 //   trajectory.csv  t,q1..q6,x,y,z,r11..r33,mode,state  (true plant angles, pose of frame 6)
 //   summary.json    sim_time_s, control_loop_cycles, control_rate_hz, cpu_load, steps,
 //                   ram_high_water_bytes, faults, resets, and more
+//   serial_out.bin  what the firmware sent on UART0
 //   trace.vcd       with --vcd
 // This is the API the scenario tests use: run_scenario() gives the rows and measurements in
 // memory, with a callback at every row for checks of their own.
