@@ -1,0 +1,231 @@
+#include "run.h"
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+
+#include <sys/stat.h>
+
+#include "kinematics/forward_kinematics.h"
+
+namespace wmra {
+namespace armsim {
+
+namespace {
+
+using D = kin::Floating<double>;
+
+FILE* open_for_writing(const std::string& path) {
+  FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw std::runtime_error("cannot write " + path);
+  return f;
+}
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if ((unsigned char)c < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", c);
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+void apply(sim::ArmSimulator& sim, const Event& e) {
+  switch (e.kind) {
+    case Event::Kind::joystick: sim.set_joystick(e.x, e.y); break;
+    case Event::Kind::button_press:
+    case Event::Kind::button_down: sim.set_button(true); break;
+    case Event::Kind::button_up: sim.set_button(false); break;
+    case Event::Kind::estop_down: sim.set_estop(true); break;
+    case Event::Kind::estop_up: sim.set_estop(false); break;
+    case Event::Kind::pot_fault:
+      sim.set_pot_fault(e.joint - 1, e.fault == 1 ? plant::PotFault::open
+                                     : e.fault == 2 ? plant::PotFault::shorted
+                                                    : plant::PotFault::ok);
+      break;
+    case Event::Kind::joystick_fault: sim.set_joystick_unplugged(e.fault == 1); break;
+    case Event::Kind::serial: sim.send_serial(e.bytes); break;
+  }
+}
+
+}  // namespace
+
+TrajectoryRow trajectory_row(double t_s, const std::array<double, 6>& q, int mode, int state) {
+  kin::JointAngles<D> a;
+  for (int j = 0; j < 6; ++j) a.q[j] = q[j];
+  const auto pose = kin::forward_kinematics<D>(a);
+  TrajectoryRow row{t_s, q, {pose.p_m.x, pose.p_m.y, pose.p_m.z}, {}, mode, state};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) row.r[3 * r + c] = pose.R[r][c];
+  return row;
+}
+
+RunResult run_scenario(const Scenario& scenario, const RunOptions& options, const RowCallback& on_row) {
+  if (options.sample_hz < 100) throw std::invalid_argument("trajectory rows: at least 100 per simulated second");
+  if (!options.out_dir.empty()) mkdir(options.out_dir.c_str(), 0777);
+  sim::SimConfig config;
+  config.elf = options.elf;
+  config.plant = options.plant;
+  if (scenario.has_init) config.initial_q = scenario.init_q;
+  if (options.vcd && !options.out_dir.empty()) config.vcd_path = options.out_dir + "/trace.vcd";
+
+  RunResult result;
+  sim::ArmSimulator sim(config);
+  size_t uart_fed = 0;
+  auto row_now = [&](const sim::ArmSimulator& s) {
+    TelemetryDecoder* t = options.telemetry;
+    if (t) {
+      const auto& out = s.uart_output();
+      for (; uart_fed < out.size(); ++uart_fed) t->feed(out[uart_fed]);
+    }
+    // the row's time is the nominal sample time: rows come at exact plant steps
+    const double t_s = std::round(s.time_s() * options.sample_hz) / options.sample_hz;
+    result.trajectory.push_back(trajectory_row(t_s, s.q(), t ? t->mode() : -1, t ? t->state() : -1));
+    if (on_row) on_row(s, result.trajectory.back());
+  };
+  sim.every(1.0 / options.sample_hz, row_now);
+
+  std::vector<Event> events = scenario.events;
+  // "button press": down now, up 150 ms later (kept in time order)
+  for (size_t i = 0; i < events.size(); ++i) {
+    if (events[i].kind != Event::Kind::button_press) continue;
+    Event up = events[i];
+    up.kind = Event::Kind::button_up;
+    up.t_s += plant::kButtonPressS;
+    size_t at = i + 1;
+    while (at < events.size() && events[at].t_s <= up.t_s) ++at;
+    events.insert(events.begin() + at, up);
+  }
+  bool crashed = false;
+  for (const Event& e : events) {
+    if (e.t_s > scenario.end_s) break;
+    if (sim.run_until(e.t_s) == cpu_Crashed) {
+      crashed = true;
+      break;
+    }
+    apply(sim, e);
+  }
+  if (!crashed) crashed = sim.run_until(scenario.end_s) == cpu_Crashed;
+  result.completed = !crashed;
+  result.measurements = sim.measurements();
+  result.uart_output = sim.uart_output();
+  if (options.telemetry) result.faults = options.telemetry->faults();
+
+  if (!options.out_dir.empty()) {
+    FILE* serial = open_for_writing(options.out_dir + "/serial_out.bin");
+    std::fwrite(result.uart_output.data(), 1, result.uart_output.size(), serial);
+    std::fclose(serial);
+    write_trajectory_csv(options.out_dir + "/trajectory.csv", result.trajectory);
+    write_summary_json(options.out_dir + "/summary.json", result, scenario, options);
+  }
+  return result;
+}
+
+void write_trajectory_csv(const std::string& path, const std::vector<TrajectoryRow>& rows) {
+  FILE* f = open_for_writing(path);
+  std::fputs("t,q1,q2,q3,q4,q5,q6,x,y,z,r11,r12,r13,r21,r22,r23,r31,r32,r33,mode,state\n", f);
+  for (const auto& r : rows) {
+    std::fprintf(f, "%.5f", r.t_s);
+    for (double v : r.q) std::fprintf(f, ",%.7f", v);
+    for (double v : r.p) std::fprintf(f, ",%.7f", v);
+    for (double v : r.r) std::fprintf(f, ",%.7f", v);
+    std::fprintf(f, ",%d,%d\n", r.mode, r.state);
+  }
+  if (std::fclose(f) != 0) throw std::runtime_error("cannot write " + path);
+}
+
+void write_summary_json(const std::string& path, const RunResult& result, const Scenario& scenario,
+                        const RunOptions& options) {
+  const sim::Measurements& m = result.measurements;
+  FILE* f = open_for_writing(path);
+  std::fprintf(f, "{\n");
+  std::fprintf(f, "  \"elf\": %s,\n", json_string(options.elf).c_str());
+  std::fprintf(f, "  \"completed\": %s,\n", result.completed ? "true" : "false");
+  std::fprintf(f, "  \"sim_time_s\": %.6f,\n", m.sim_time_s);
+  std::fprintf(f, "  \"scenario_end_s\": %.6f,\n", scenario.end_s);
+  std::fprintf(f, "  \"cycles\": %llu,\n", (unsigned long long)m.cycles);
+  std::fprintf(f, "  \"control_loop_cycles\": {\"mean\": %.1f, \"max\": %llu, \"min\": %llu, \"count\": %llu},\n",
+               m.loop_high.mean(), (unsigned long long)m.loop_high.max,
+               (unsigned long long)(m.loop_high.count ? m.loop_high.min : 0), (unsigned long long)m.loop_high.count);
+  std::fprintf(f, "  \"control_period_cycles\": {\"mean\": %.1f, \"max\": %llu, \"min\": %llu},\n", m.loop_period.mean(),
+               (unsigned long long)m.loop_period.max,
+               (unsigned long long)(m.loop_period.count ? m.loop_period.min : 0));
+  std::fprintf(f, "  \"control_rate_hz\": %.3f,\n", m.control_rate_hz);
+  std::fprintf(f, "  \"cpu_load\": %.4f,\n", m.cpu_load);
+  static const char* names[3] = {"J1", "J5", "J6"};
+  std::fprintf(f, "  \"steps\": {");
+  for (int i = 0; i < 3; ++i) {
+    const sim::StepperCounts& s = m.steps[i];
+    std::fprintf(f,
+                 "%s\n    \"%s\": {\"commanded\": %lld, \"lost\": %lld, \"ignored_while_disabled\": %lld, "
+                 "\"timing_violations\": %lld}",
+                 i ? "," : "", names[i], (long long)s.commanded, (long long)s.lost, (long long)s.ignored,
+                 (long long)s.timing_violations);
+  }
+  std::fprintf(f, "\n  },\n");
+  std::fprintf(f, "  \"ram_high_water_bytes\": %u,\n", m.ram_static_bytes + m.stack_bytes);
+  std::fprintf(f, "  \"ram_static_bytes\": %u,\n", m.ram_static_bytes);
+  std::fprintf(f, "  \"stack_high_water_bytes\": %u,\n", m.stack_bytes);
+  std::fprintf(f, "  \"flash_bytes\": %u,\n", m.flash_bytes);
+  std::fprintf(f, "  \"faults\": [");
+  for (size_t i = 0; i < result.faults.size(); ++i) std::fprintf(f, "%s%s", i ? ", " : "", json_string(result.faults[i]).c_str());
+  std::fprintf(f, "],\n");
+  std::fprintf(f, "  \"faults_source\": %s,\n",
+               json_string(options.telemetry ? "firmware telemetry" : "none: no telemetry decoder yet").c_str());
+  std::fprintf(f, "  \"sim_faults\": [");
+  for (size_t i = 0; i < m.sim_faults.size(); ++i) std::fprintf(f, "%s%s", i ? ", " : "", json_string(m.sim_faults[i]).c_str());
+  std::fprintf(f, "],\n");
+  std::fprintf(f, "  \"resets\": %zu,\n", m.resets.size());
+  std::fprintf(f, "  \"reset_log\": [");
+  for (size_t i = 0; i < m.resets.size(); ++i) {
+    std::fprintf(f, "%s{\"t_s\": %.6f, \"cause\": %s}", i ? ", " : "", m.resets[i].cycle / 16e6,
+                 json_string(m.resets[i].cause).c_str());
+  }
+  std::fprintf(f, "],\n");
+  std::fprintf(f, "  \"isr_cycles\": {");
+  bool first = true;
+  for (const auto& [name, s] : m.isr) {
+    std::fprintf(f, "%s\n    \"%s\": {\"count\": %llu, \"max\": %llu, \"mean\": %.1f}", first ? "" : ",", name.c_str(),
+                 (unsigned long long)s.count, (unsigned long long)s.max_cycles, (double)s.total_cycles / s.count);
+    first = false;
+  }
+  std::fprintf(f, "%s},\n", first ? "" : "\n  ");
+  std::fprintf(f, "  \"estop\": [");
+  for (size_t i = 0; i < m.estop.size(); ++i) {
+    const sim::EstopReaction& e = m.estop[i];
+    if (e.outputs_off_s >= 0) {
+      std::fprintf(f, "%s{\"pressed_s\": %.6f, \"outputs_off_s\": %.6f, \"reaction_s\": %.6f}", i ? ", " : "", e.pressed_s,
+                   e.outputs_off_s, e.outputs_off_s - e.pressed_s);
+    } else {
+      std::fprintf(f, "%s{\"pressed_s\": %.6f, \"outputs_off_s\": null, \"reaction_s\": null}", i ? ", " : "", e.pressed_s);
+    }
+  }
+  std::fprintf(f, "],\n");
+  std::fprintf(f, "  \"uart\": {\"tx_bytes\": %llu, \"rx_bytes\": %llu, \"rx_dropped\": %llu},\n",
+               (unsigned long long)m.uart_tx_bytes, (unsigned long long)m.uart_rx_bytes,
+               (unsigned long long)m.uart_rx_dropped);
+  std::fprintf(f, "  \"trajectory_rows\": %zu,\n", result.trajectory.size());
+  std::fprintf(f, "  \"mode_state\": %s,\n",
+               json_string(options.telemetry ? "firmware telemetry" : "-1: no telemetry decoder yet").c_str());
+  std::fprintf(f, "  \"seed\": %llu,\n", (unsigned long long)options.plant.seed);
+  std::fprintf(f, "  \"simavr_log\": {");
+  first = true;
+  for (const auto& [line, count] : m.simavr_log) {
+    std::fprintf(f, "%s\n    %s: %d", first ? "" : ",", json_string(line).c_str(), count);
+    first = false;
+  }
+  std::fprintf(f, "%s}\n}\n", first ? "" : "\n  ");
+  if (std::fclose(f) != 0) throw std::runtime_error("cannot write " + path);
+}
+
+}  // namespace armsim
+}  // namespace wmra

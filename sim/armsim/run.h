@@ -1,0 +1,71 @@
+// Running a scenario against a firmware image, and the files armsim writes (SPEC section 7):
+//   trajectory.csv  t,q1..q6,x,y,z,r11..r33,mode,state  (true plant angles, pose of frame 6)
+//   summary.json    sim_time_s, control_loop_cycles, control_rate_hz, cpu_load, steps,
+//                   ram_high_water_bytes, faults, resets, and more
+//   serial_out.bin  what the firmware sent on UART0
+//   trace.vcd       with --vcd
+// This is the API the scenario tests use: run_scenario() gives the rows and measurements in
+// memory, with a callback at every row for checks of their own.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "armsim/scenario.h"
+#include "plant/arm_plant_config.h"
+#include "wiring/arm_simulator.h"
+
+namespace wmra {
+namespace armsim {
+
+// The firmware's telemetry, decoded from its UART output (the protocol is the firmware's:
+// until a decoder is given, mode and state are -1 and no firmware faults are listed).
+class TelemetryDecoder {
+ public:
+  virtual ~TelemetryDecoder() = default;
+  virtual void feed(uint8_t byte) = 0;
+  virtual int mode() const = 0;
+  virtual int state() const = 0;
+  virtual std::vector<std::string> faults() const = 0;
+};
+
+struct RunOptions {
+  std::string elf;
+  std::string out_dir;   // empty: write no files
+  bool vcd = false;
+  double sample_hz = 100;  // trajectory rows per simulated second (>= 100)
+  plant::PlantConfig plant;
+  TelemetryDecoder* telemetry = nullptr;
+};
+
+struct TrajectoryRow {
+  double t_s;
+  std::array<double, 6> q;
+  std::array<double, 3> p;  // frame-6 origin, base frame, m
+  std::array<double, 9> r;  // rotation base <- frame 6, row-major
+  int mode, state;
+};
+
+struct RunResult {
+  std::vector<TrajectoryRow> trajectory;
+  sim::Measurements measurements;
+  std::vector<std::string> faults;  // reported by the firmware (telemetry)
+  std::vector<uint8_t> uart_output;
+  bool completed = false;  // ran to the scenario's end (false: the core crashed)
+};
+
+using RowCallback = std::function<void(const sim::ArmSimulator&, const TrajectoryRow&)>;
+
+// Runs the scenario; with out_dir set, writes trajectory.csv, summary.json (and trace.vcd).
+// Throws std::runtime_error when the ELF cannot be loaded or the files cannot be written.
+RunResult run_scenario(const Scenario& scenario, const RunOptions& options, const RowCallback& on_row = nullptr);
+
+TrajectoryRow trajectory_row(double t_s, const std::array<double, 6>& q, int mode, int state);
+void write_trajectory_csv(const std::string& path, const std::vector<TrajectoryRow>& rows);
+void write_summary_json(const std::string& path, const RunResult& result, const Scenario& scenario,
+                        const RunOptions& options);
+
+}  // namespace armsim
+}  // namespace wmra

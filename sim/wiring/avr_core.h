@@ -1,0 +1,103 @@
+// An ATmega2560 at 16 MHz in libsimavr (Debian's simavr 1.6), with what can be measured from
+// outside the firmware: cycles asleep (CPU load), every interrupt handler's cycles from its
+// vector to its RETI, the stack pointer's low-water mark, resets and their causes.
+//
+// simavr facts handled here (see README, "simavr 1.6"):
+//   - its default sleep callback usleep()s to keep real time: replaced, sleep costs no wall time;
+//   - its UARTs poll-sleep and print lines on the console by default: both flags cleared;
+//   - avr_reset() (a watchdog bite) cancels every cycle timer and clears the PIN registers: the
+//     reset listeners re-arm what they need (see ArmSimulator);
+//   - its external interrupts poll a low pin every cycle in level mode: turned off (see
+//     no_level_polling);
+//   - one avr_run() call executes one instruction (or one sleep interval up to the next cycle
+//     timer), then services interrupts: interrupt entry is seen as the PC landing on a vector.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "sim_avr.h"
+
+namespace wmra {
+namespace sim {
+
+struct IsrStats {
+  uint64_t count = 0;
+  uint64_t total_cycles = 0;
+  uint64_t max_cycles = 0;  // vector to the end of RETI, plus the 5-cycle interrupt response
+};
+
+struct ResetEvent {
+  uint64_t cycle;
+  std::string cause;  // "watchdog", "external", "brown-out", "power-on", "jump to 0"
+};
+
+class AvrCore {
+ public:
+  // loads the ELF (exits the process on failure is not an option: throws std::runtime_error)
+  explicit AvrCore(const std::string& elf_path);
+  ~AvrCore();
+  AvrCore(const AvrCore&) = delete;
+  AvrCore& operator=(const AvrCore&) = delete;
+
+  avr_t* avr() const { return avr_; }
+  uint64_t cycle() const { return avr_->cycle; }
+  int state() const { return avr_->state; }
+  bool stopped() const { return avr_->state == cpu_Done || avr_->state == cpu_Crashed; }
+
+  // One instruction (or one sleep interval) with the measurements.
+  int step();
+  // Steps until the cycle counter reaches `cycle` or the core crashes; returns the state. A core
+  // halted by sleep with interrupts off keeps its timers (and the watchdog) running.
+  int run_until(uint64_t cycle);
+  // the cycle the firmware first halted (sleep with interrupts off), 0 if never
+  uint64_t halted_at() const { return halted_at_; }
+
+  // --- measurements
+  uint64_t sleep_cycles() const { return sleep_cycles_; }
+  const IsrStats& isr(int vector) const { return isr_[vector]; }
+  uint16_t min_stack_pointer() const { return min_sp_; }
+  uint32_t static_ram_bytes() const { return static_ram_; }  // .data + .bss
+  uint32_t stack_high_water_bytes() const;
+  uint32_t flash_bytes() const { return flash_bytes_; }
+  const std::vector<ResetEvent>& resets() const { return resets_; }
+  const std::string& console() const { return console_; }  // bytes written to GPIOR0
+  const std::vector<std::string>& log() const { return log_; }  // simavr's warnings and errors
+
+  // called after each reset (watchdog or jump to 0), once the core is ready to run again
+  void on_reset(std::function<void()> listener) { reset_listeners_.push_back(std::move(listener)); }
+
+ private:
+  static void sleep_hook(avr_t* avr, avr_cycle_count_t how_long);
+  static void reset_hook(avr_t* avr);
+  static void console_write(avr_t* avr, avr_io_addr_t addr, uint8_t v, void* param);
+  static void logger(avr_t* avr, const int level, const char* format, va_list ap);
+  void after_reset(const std::string& cause);
+  std::string watchdog_cause() const;
+  void no_level_polling();
+
+  avr_t* avr_ = nullptr;
+  void (*core_reset_)(avr_t*) = nullptr;
+  avr_run_t run_callback_ = nullptr;
+  uint64_t sleep_cycles_ = 0;
+  IsrStats isr_[64];
+  struct Active {
+    int vector;
+    uint64_t entry_cycle;
+  };
+  std::vector<Active> active_;
+  uint16_t min_sp_ = 0xFFFF;
+  uint32_t static_ram_ = 0;
+  uint32_t flash_bytes_ = 0;
+  bool reset_seen_ = false;
+  uint64_t halted_at_ = 0;
+  std::vector<ResetEvent> resets_;
+  std::vector<std::function<void()>> reset_listeners_;
+  std::string console_;
+  std::vector<std::string> log_;
+};
+
+}  // namespace sim
+}  // namespace wmra

@@ -1,0 +1,67 @@
+// UART0 at 115200 baud: at boot "boot MCUSR PINB PIND PINE" in hex (the reset cause and the
+// switch inputs), then an echo of what arrives (RX interrupt). A 'W' starts the watchdog
+// (15 ms) and hangs in a loop, an 'H' starts it and halts (sleep with interrupts off): the
+// simulator must count each reset, and the inputs must read the same after it.
+#include <avr/sleep.h>
+#include <avr/wdt.h>
+
+#include "board_io.h"
+
+namespace {
+volatile uint8_t rx[64];
+volatile uint8_t head, tail;
+
+void tx(uint8_t c) {
+  while (!(UCSR0A & (1 << UDRE0))) {
+  }
+  UDR0 = c;
+}
+void tx_hex(uint8_t v) {
+  const char* h = "0123456789abcdef";
+  tx((uint8_t)h[v >> 4]);
+  tx((uint8_t)h[v & 15]);
+}
+}  // namespace
+
+ISR(USART0_RX_vect) { rx[head++ & 63] = UDR0; }
+
+int main() {
+  const uint8_t cause = MCUSR;
+  MCUSR = 0;
+  wdt_disable();
+  UCSR0A = 1 << U2X0;
+  UBRR0 = 16;  // 117,647 baud, 2.1 % from 115,200
+  UCSR0B = (1 << RXEN0) | (1 << TXEN0) | (1 << RXCIE0);
+  UCSR0C = 3 << UCSZ00;
+  PORTB = 0x7F;  // pull-ups on the port B switches
+  const char* s = "boot ";
+  while (*s) tx((uint8_t)*s++);
+  tx_hex(cause);
+  tx(' ');
+  tx_hex(PINB & 0x7F);
+  tx(' ');
+  tx_hex(PIND & 0x0F);
+  tx(' ');
+  tx_hex(PINE & 0x30);
+  tx('\n');
+  sei();
+  for (;;) {
+    while (tail != head) {
+      const uint8_t c = rx[tail++ & 63];
+      tx(c);
+      if (c == 'W') {
+        wdt_enable(WDTO_15MS);
+        for (;;) {
+        }
+      }
+      if (c == 'H') {
+        while (!(UCSR0A & (1 << TXC0))) {
+        }
+        wdt_enable(WDTO_15MS);
+        cli();
+        sleep_enable();
+        sleep_cpu();
+      }
+    }
+  }
+}

@@ -1,0 +1,170 @@
+// armsim: the scenario format, the files it writes, its exit codes, determinism.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "armsim/run.h"
+#include "armsim/scenario.h"
+
+using namespace wmra;
+using armsim::Event;
+using armsim::parse_scenario;
+using armsim::ScenarioError;
+
+namespace {
+
+std::string read_file(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+int error_line(const std::string& text) {
+  try {
+    parse_scenario(text);
+  } catch (const ScenarioError& e) {
+    return e.line();
+  }
+  return 0;
+}
+
+const std::string kImage = std::string(SIM_IMAGES) + "/sim_bridges_avr.elf";
+const std::string kLoopImage = std::string(SIM_IMAGES) + "/sim_loop_avr.elf";
+
+}  // namespace
+
+TEST(Scenario, TheSpecExampleParses) {
+  const auto s = parse_scenario(
+      "init 0.1 0.2 0.3 0.4 0.5 0.6     # optional, first line\n"
+      "0.0  joystick 0.5 -1          # stick deflection\n"
+      "1.0  button press\n"
+      "2.0  estop down\n"
+      "2.5  pot_fault 3 open\n"
+      "2.5  joystick_fault open\n"
+      "3.0  serial 4f4b0a\n"
+      "\n"
+      "# a comment line\n"
+      "9.0  end\n");
+  ASSERT_TRUE(s.has_init);
+  EXPECT_DOUBLE_EQ(s.init_q[5], 0.6);
+  ASSERT_EQ(s.events.size(), 6u);
+  EXPECT_EQ(s.events[0].kind, Event::Kind::joystick);
+  EXPECT_DOUBLE_EQ(s.events[0].y, -1);
+  EXPECT_EQ(s.events[1].kind, Event::Kind::button_press);
+  EXPECT_EQ(s.events[2].kind, Event::Kind::estop_down);
+  EXPECT_EQ(s.events[3].joint, 3);
+  EXPECT_EQ(s.events[3].fault, 1);
+  EXPECT_EQ(s.events[4].kind, Event::Kind::joystick_fault);
+  EXPECT_EQ(s.events[5].bytes, (std::vector<uint8_t>{0x4f, 0x4b, 0x0a}));
+  EXPECT_EQ(s.events[5].line, 7);
+  EXPECT_DOUBLE_EQ(s.end_s, 9.0);
+}
+
+TEST(Scenario, BadLinesAreNamed) {
+  EXPECT_EQ(error_line("0 joystick 0 0\n0.5 jump\n1 end\n"), 2);           // unknown event
+  EXPECT_EQ(error_line("0 joystick 1.5 0\n1 end\n"), 1);                   // beyond full deflection
+  EXPECT_EQ(error_line("0 joystick 0\n1 end\n"), 1);                       // missing Y
+  EXPECT_EQ(error_line("0 joystick 0 0 0\n1 end\n"), 1);                   // one too many
+  EXPECT_EQ(error_line("1 estop down\n0.5 estop up\n2 end\n"), 2);         // time goes back
+  EXPECT_EQ(error_line("-1 estop down\n2 end\n"), 1);                      // negative time
+  EXPECT_EQ(error_line("0 estop press\n1 end\n"), 1);
+  EXPECT_EQ(error_line("0 button click\n1 end\n"), 1);
+  EXPECT_EQ(error_line("0 pot_fault 5 open\n1 end\n"), 1);                 // J5 has no pot
+  EXPECT_EQ(error_line("0 pot_fault 2 broken\n1 end\n"), 1);
+  EXPECT_EQ(error_line("0 joystick_fault short\n1 end\n"), 1);
+  EXPECT_EQ(error_line("0 serial 4f4\n1 end\n"), 1);                       // odd digits
+  EXPECT_EQ(error_line("0 serial 4g\n1 end\n"), 1);
+  EXPECT_EQ(error_line("# first\n0 joystick 0 0\ninit 0 0 0 0 0 0\n1 end\n"), 3);  // init not first
+  EXPECT_EQ(error_line("init 0 0 3 0 0 0\n1 end\n"), 1);                   // q3 beyond 160 deg
+  EXPECT_EQ(error_line("init 0 0 0 0 0\n1 end\n"), 1);
+  EXPECT_EQ(error_line("x joystick 0 0\n1 end\n"), 1);
+  EXPECT_EQ(error_line("0 joystick 0 0\n"), 1);                            // no end
+  EXPECT_EQ(error_line("1 end\n2 estop down\n"), 2);                       // after the end
+  EXPECT_EQ(error_line("# only comments\n\n2 end # done\n"), 0);
+}
+
+TEST(Armsim, WritesTheSpecsFiles) {
+  const std::string dir = std::string(ARMSIM_OUT) + "/files";
+  armsim::RunOptions options;
+  options.elf = kImage;
+  options.out_dir = dir;
+  options.vcd = true;
+  const auto scenario = parse_scenario("init 0 0.5 1.0 -2.7 0.3 0\n0 joystick 0.2 0\n0.3 button press\n0.5 serial 4f4b\n0.85 estop down\n1.0 end\n");
+  const auto result = armsim::run_scenario(scenario, options);
+  EXPECT_TRUE(result.completed);
+
+  const std::string csv = read_file(dir + "/trajectory.csv");
+  std::istringstream lines(csv);
+  std::string header;
+  std::getline(lines, header);
+  EXPECT_EQ(header, "t,q1,q2,q3,q4,q5,q6,x,y,z,r11,r12,r13,r21,r22,r23,r31,r32,r33,mode,state");
+  int rows = 0;
+  double first_t = -1, last_t = -1, x0 = 0, q1 = 0, q2 = 0, q3 = 0, q4 = 0;
+  for (std::string line; std::getline(lines, line); ++rows) {
+    double t;
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,", &t), 1);
+    if (rows == 0) {
+      first_t = t;
+      std::sscanf(line.c_str(), "%*f,%lf,%lf,%lf,%lf,%*f,%*f,%lf", &q1, &q2, &q3, &q4, &x0);
+    }
+    last_t = t;
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 20);
+  }
+  EXPECT_EQ(rows, 101);  // 100 a second, both ends
+  EXPECT_DOUBLE_EQ(first_t, 0.0);
+  EXPECT_DOUBLE_EQ(last_t, 1.0);
+  EXPECT_DOUBLE_EQ(q2, 0.5);  // the init line
+  EXPECT_DOUBLE_EQ(q4, -2.7);
+  EXPECT_NEAR(x0, result.trajectory[0].p[0], 1e-7);
+  EXPECT_EQ(result.trajectory.back().mode, -1);  // no telemetry decoder yet
+
+  const std::string json = read_file(dir + "/summary.json");
+  for (const char* field : {"\"sim_time_s\": 1.000000", "\"control_loop_cycles\": {\"mean\":", "\"control_rate_hz\":",
+                            "\"cpu_load\":", "\"steps\": {", "\"J1\": {\"commanded\":", "\"J5\":", "\"J6\":", "\"lost\":",
+                            "\"ram_high_water_bytes\":", "\"faults\": [", "\"resets\": 0", "\"reaction_s\":"}) {
+    EXPECT_NE(json.find(field), std::string::npos) << field;
+  }
+  const std::string vcd = read_file(dir + "/trace.vcd");
+  EXPECT_EQ(vcd.rfind("$timescale 1ns $end", 0), 0u);
+  EXPECT_NE(vcd.find("#1000000000"), std::string::npos);  // runs to the end, in ns
+}
+
+TEST(Armsim, SameElfAndScenarioSameFiles) {
+  const auto scenario = parse_scenario("init 0 0.5 1.0 -2.7 0.3 0\n0 joystick 0.3 -0.4\n0.85 estop down\n1.0 end\n");
+  std::string csv[2], json[2];
+  for (int k = 0; k < 2; ++k) {
+    armsim::RunOptions options;
+    options.elf = kImage;
+    options.out_dir = std::string(ARMSIM_OUT) + "/same" + std::to_string(k);
+    armsim::run_scenario(scenario, options);
+    csv[k] = read_file(options.out_dir + "/trajectory.csv");
+    json[k] = read_file(options.out_dir + "/summary.json");
+  }
+  EXPECT_EQ(csv[0], csv[1]);
+  EXPECT_EQ(json[0].substr(json[0].find("\"completed\"")), json[1].substr(json[1].find("\"completed\"")));
+}
+
+TEST(Armsim, CommandLineExitCodes) {
+  const std::string dir = std::string(ARMSIM_OUT) + "/cli";
+  const std::string bad = dir + "_bad.txt", good = dir + "_good.txt";
+  std::ofstream(bad) << "# header\n0 joystick 0 0\n0.5 joystick 2 0\n1 end\n";
+  std::ofstream(good) << "0 joystick 0 0\n0.2 end\n";
+  const std::string armsim = ARMSIM;
+  auto run = [&](const std::string& args) {
+    const int status = std::system((armsim + " " + args + " 2> " + dir + "_stderr.txt").c_str());
+    return WEXITSTATUS(status);
+  };
+  EXPECT_EQ(run("--scenario " + bad + " --out " + dir + " --elf " + kLoopImage), 2);
+  EXPECT_NE(read_file(dir + "_stderr.txt").find(bad + ":3: joystick X and Y must be within [-1, 1]"), std::string::npos)
+      << read_file(dir + "_stderr.txt");
+  EXPECT_EQ(run("--scenario " + good + " --out " + dir + " --elf /nonexistent.elf"), 3);
+  EXPECT_EQ(run("--scenario " + good), 2);  // no --out
+  EXPECT_EQ(run("--scenario " + good + " --out " + dir + " --elf " + kLoopImage), 0);
+  EXPECT_NE(read_file(dir + "/summary.json").find("\"control_rate_hz\": 1000.000"), std::string::npos);
+}
