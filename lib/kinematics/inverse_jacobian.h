@@ -105,24 +105,24 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   const auto wx = t.c1 * w.x + t.s1 * w.y;
   const auto wy = t.c1 * w.y - t.s1 * w.x;
 
-  // 1. joint-5 origin velocity v5 = v - w x (d6 z6), with d6 z6 = d6 (c234 c5, -s5, s234 c5)
-  const auto zx = (t.c234 * t.c5) * d6;
-  const auto zy = -(t.s5 * d6);
-  const auto zz = (t.s234 * t.c5) * d6;
-  const auto v5x = vx - (wy * zz - w.z * zy);
-  const auto v5y = vy - (w.z * zx - wx * zz);
-  const auto v5z = v.z - (wx * zy - wy * zx);
-  const auto qd1 = v5y * N::damped_reciprocal(out.factors.r5, damp_r5);
+  // 1. joint-5 origin velocity v5 = v - w x (d6 z6), with d6 z6 = (c234 c5d6, -s5d6, s234 c5d6);
+  //    its y component is vy + c5d6 m with m = wx s234 - w.z c234
+  const auto c5d6 = t.c5 * d6;
+  const auto s5d6 = t.s5 * d6;
+  const auto m = wx * t.s234 - w.z * t.c234;
+  const auto qd1 = (vy + m * c5d6) * N::damped_reciprocal(out.factors.r5, damp_r5);
 
-  // 2. wrist: angular velocity less joint 1
+  // 2. wrist: angular velocity less joint 1 (qd5 = wx s234 - wz c234 = m + qd1 c234)
   const auto wz = w.z - qd1;
   const auto qd6 = (wx * t.c234 + wz * t.s234) * N::damped_reciprocal(t.c5, damp_c5);
-  const auto qd5 = wx * t.s234 - wz * t.c234;
+  const auto qd5 = m + qd1 * t.c234;
   const auto sigma = -wy - qd6 * t.s5;
 
-  // 3. planar shoulder-elbow-pitch chain
-  const auto bx = -v5x - sigma * (t.s234 * a4);
-  const auto bz = v5z - sigma * (t.c234 * a4);
+  // 3. planar shoulder-elbow-pitch chain, with v5x and v5z written out:
+  //    bx = w.z s5d6 - vx + s234 g,  bz = v.z + wx s5d6 + c234 g,  g = wy c5d6 - sigma a4
+  const auto g = wy * c5d6 - sigma * a4;
+  const auto bx = w.z * s5d6 - vx + g * t.s234;
+  const auto bz = v.z + wx * s5d6 + g * t.c234;
   const auto inv_s3 = N::damped_reciprocal(t.s3, damp_s3);
   const auto qd2 = (bz * t.s23 - bx * t.c23) * (inv_s3 * inv_a2);
   const auto qd23 = (bx * t.c2 - bz * t.s2) * (inv_s3 * inv_a3);
