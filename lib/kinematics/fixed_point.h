@@ -7,7 +7,8 @@
 //   Length   uint16 UQ16  [0, 1) metres link-length constants (every link is < 1 m)
 //   Real     int32  Q23   +-256         positions (m), velocities (m/s, rad/s), rates
 // Unit*Length is one 16x16 product whose Q31 result is shifted by 8 into Q23.
-// Unit*Real is a 32x16 product built from two 16x16 products (no int64 anywhere).
+// Unit*Real is a 32x16 product of 8x8 MULs (no int64 anywhere), shifted by 15 into Q23;
+// a sum of two of them is one fused product (dot).
 // Unit*Unit is one 16x16 product, doubled and rounded into Q15.
 // Sines and cosines are saturated to +-32767, so Unit*Unit never meets -1 * -1.
 #pragma once
@@ -29,29 +30,6 @@ constexpr int32_t kUnitOne = 32767;  // the largest Unit; 1.0 itself is not repr
 // --- (Atmel AVR201): left to itself avr-gcc folds the operands after inlining and falls
 // --- back to 16x32 or 32x32 library calls that cost 3-5 times as much.
 #if defined(__AVR__)
-inline int32_t mul_ss(int16_t a, int16_t b) {
-  int32_t r;
-  uint8_t zero;
-  asm("clr   %[z]\n\t"
-      "muls  %B[a], %B[b]\n\t"
-      "movw  %C[r], r0\n\t"
-      "mul   %A[a], %A[b]\n\t"
-      "movw  %A[r], r0\n\t"
-      "mulsu %B[a], %A[b]\n\t"
-      "sbc   %D[r], %[z]\n\t"
-      "add   %B[r], r0\n\t"
-      "adc   %C[r], r1\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "mulsu %B[b], %A[a]\n\t"
-      "sbc   %D[r], %[z]\n\t"
-      "add   %B[r], r0\n\t"
-      "adc   %C[r], r1\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "clr   __zero_reg__"
-      : [r] "=&r"(r), [z] "=&r"(zero)
-      : [a] "a"(a), [b] "a"(b));
-  return r;
-}
 inline int32_t mul_us(uint16_t a, int16_t b) {
   int32_t r;
   uint8_t zero;
@@ -96,7 +74,6 @@ inline uint32_t mul_uu(uint16_t a, uint16_t b) {
   return r;
 }
 #else
-inline int32_t mul_ss(int16_t a, int16_t b) { return (int32_t)a * b; }
 inline int32_t mul_us(uint16_t a, int16_t b) { return (int32_t)a * b; }
 inline uint32_t mul_uu(uint16_t a, uint16_t b) { return (uint32_t)a * b; }
 #endif
@@ -116,74 +93,6 @@ inline uint16_t hi16(uint32_t x) {
   w.u = x;
   return (uint16_t)w.h.hi;
 }
-
-// floor(x * c / 2^16), exact: the top 32 bits of the 48-bit product.
-// On the AVR the eight 8x8 partial products of the unsigned operands are summed straight
-// into the result bytes (byte 0 of the product never carries, so it is not formed). MUL,
-// unlike MULS/MULSU, takes any register, which spares the compiler from moving both
-// operands into r16-r23 for every product. The signs are put back exactly afterwards:
-// with U the unsigned result, floor(x c / 2^16) = U - [c < 0] x - [x < 0] c 2^16 (mod 2^32).
-#if defined(__AVR__)
-inline uint32_t mul_hi_u32xu16(uint32_t x, uint16_t c) {
-  uint32_t r;
-  uint8_t t, z;
-  asm("clr   %[z]\n\t"
-      "mul   %A[x], %A[c]\n\t"  // @0
-      "mov   %[t], r1\n\t"
-      "mul   %C[x], %A[c]\n\t"  // @2
-      "movw  %A[r], r0\n\t"
-      "mul   %D[x], %B[c]\n\t"  // @4
-      "movw  %C[r], r0\n\t"
-      "mul   %B[x], %A[c]\n\t"  // @1
-      "add   %[t], r0\n\t"
-      "adc   %A[r], r1\n\t"
-      "adc   %B[r], %[z]\n\t"
-      "adc   %C[r], %[z]\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "mul   %A[x], %B[c]\n\t"  // @1
-      "add   %[t], r0\n\t"
-      "adc   %A[r], r1\n\t"
-      "adc   %B[r], %[z]\n\t"
-      "adc   %C[r], %[z]\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "mul   %D[x], %A[c]\n\t"  // @3
-      "add   %B[r], r0\n\t"
-      "adc   %C[r], r1\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "mul   %B[x], %B[c]\n\t"  // @2
-      "add   %A[r], r0\n\t"
-      "adc   %B[r], r1\n\t"
-      "adc   %C[r], %[z]\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "mul   %C[x], %B[c]\n\t"  // @3
-      "add   %B[r], r0\n\t"
-      "adc   %C[r], r1\n\t"
-      "adc   %D[r], %[z]\n\t"
-      "clr   __zero_reg__"
-      : [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z)
-      : [x] "r"(x), [c] "r"(c));
-  return r;
-}
-
-inline int32_t mul_hi_32x16(int32_t x, int16_t c) {
-  Word32 r;
-  r.u = mul_hi_u32xu16((uint32_t)x, (uint16_t)c);
-  if (c < 0) r.u -= (uint32_t)x;
-  if (x < 0) r.h.hi -= c;  // c 2^16: only the high half changes
-  return r.s;
-}
-
-// floor(x * c / 2^16) for an unsigned c, exact.
-inline int32_t mul_hi_32xu16(int32_t x, uint16_t c) {
-  Word32 r;
-  r.u = mul_hi_u32xu16((uint32_t)x, c);
-  if (x < 0) r.h.hi -= (int16_t)c;
-  return r.s;
-}
-#else
-inline int32_t mul_hi_32x16(int32_t x, int16_t c) { return (int32_t)(((int64_t)x * c) >> 16); }
-inline int32_t mul_hi_32xu16(int32_t x, uint16_t c) { return (int32_t)(((int64_t)x * c) >> 16); }
-#endif
 
 // constexpr conversions from real numbers (used for constants and on the host)
 constexpr int32_t round_to_int32(double x) { return (int32_t)(x < 0 ? x - 0.5 : x + 0.5); }
@@ -295,12 +204,112 @@ inline Real operator+(Real a, Real b) { return Real{a.raw + b.raw}; }
 inline Real operator-(Real a, Real b) { return Real{a.raw - b.raw}; }
 inline Real operator-(Real a) { return Real{-a.raw}; }
 
-// Unit * Real: Q15 * Q23 = Q38; >>16 gives Q22, one doubling gives Q23 (the lost bit is
-// 1.2e-7 of a metre or a rad/s).
-inline Real operator*(Unit u, Real r) {
-  const int32_t q22 = mul_hi_32x16(r.raw, u.raw);
-  return Real{q22 + q22};
+// --- Unit * Real products: a 32x16 product whose lowest 8x8 partial product is left out.
+// mul_q15(x, c) = floor((x c - lo8(x) lo8(c)) / 2^15) and
+// dot_q15(a, x, b, y) = floor((a x + b y - lo8(x) lo8(a) - lo8(y) lo8(b)) / 2^15), with lo8
+// the unsigned low byte and the result taken mod 2^32. The left-out terms are below 2^16,
+// so the result is the exact floor or up to two steps of 2^-23 below it (four for dot); the host
+// computes the same formula.
+//
+// On the AVR the seven remaining 8x8 partial products of the unsigned operands are summed
+// into bytes 1-5 of the product: %[t] is byte 1, %[r] bytes 2-5. MUL, unlike MULS/MULSU,
+// takes any register, so the compiler need not move the operands into r16-r23. The signs
+// are put back afterwards, with the unsigned readings X, C of x, c:
+// x c = X C - [c < 0] X 2^16 - [x < 0] C 2^32 (mod 2^48), a branch around each subtraction.
+#if defined(__AVR__)
+#define WMRA_STR(x) #x
+// r0:r1 = byte i of x times byte j of c
+#define WMRA_MUL_ASM(x, i, c, j) "mul   %" #i "[" #x "], %" #j "[" #c "]\n\t"
+// t:r += r0:r1 at byte 1, 2, 3 or 4 of the product
+#define WMRA_ADD_AT1_ASM \
+  "add   %[t], r0\n\t"   \
+  "adc   %A[r], r1\n\t"  \
+  "adc   %B[r], %[z]\n\t" WMRA_CARRY_TO_BYTE4_ASM
+#define WMRA_ADD_AT2_ASM \
+  "add   %A[r], r0\n\t"  \
+  "adc   %B[r], r1\n\t" WMRA_CARRY_TO_BYTE4_ASM
+#define WMRA_CARRY_TO_BYTE4_ASM \
+  "adc   %C[r], %[z]\n\t"       \
+  "adc   %D[r], %[z]\n\t"
+#define WMRA_ADD_AT3_ASM \
+  "add   %B[r], r0\n\t"  \
+  "adc   %C[r], r1\n\t"  \
+  "adc   %D[r], %[z]\n\t"
+#define WMRA_ADD_AT4_ASM \
+  "add   %C[r], r0\n\t"  \
+  "adc   %D[r], r1\n\t"
+// t:r = X C (bytes 1-5), partial products by byte position @k
+#define WMRA_MUL32X16_SET_ASM(x, c)                         \
+  WMRA_MUL_ASM(x, C, c, A) "movw  %A[r], r0\n\t" /* @2 */  \
+  WMRA_MUL_ASM(x, D, c, B) "movw  %C[r], r0\n\t" /* @4 */  \
+  WMRA_MUL_ASM(x, B, c, A) "mov   %[t], r0\n\t"  /* @1 */  \
+  "add   %A[r], r1\n\t"                                    \
+  "adc   %B[r], %[z]\n\t" WMRA_CARRY_TO_BYTE4_ASM WMRA_MUL32X16_REST_ASM(x, c)
+// t:r += the partial products @1 (x0 c1), @2 (x1 c1), @3 (x3 c0, x2 c1)
+#define WMRA_MUL32X16_REST_ASM(x, c)               \
+  WMRA_MUL_ASM(x, A, c, B) WMRA_ADD_AT1_ASM       \
+  WMRA_MUL_ASM(x, B, c, B) WMRA_ADD_AT2_ASM       \
+  WMRA_MUL_ASM(x, D, c, A) WMRA_ADD_AT3_ASM       \
+  WMRA_MUL_ASM(x, C, c, B) WMRA_ADD_AT3_ASM
+// t:r += X C (bytes 1-5)
+#define WMRA_MUL32X16_ADD_ASM(x, c)                \
+  WMRA_MUL_ASM(x, B, c, A) WMRA_ADD_AT1_ASM       \
+  WMRA_MUL_ASM(x, C, c, A) WMRA_ADD_AT2_ASM       \
+  WMRA_MUL_ASM(x, D, c, B) WMRA_ADD_AT4_ASM WMRA_MUL32X16_REST_ASM(x, c)
+// - [x < 0] C 2^32
+#define WMRA_REAL_SIGN_ASM(x, c, label)                              \
+  "sbrs  %D[" #x "], 7\n\t"                                         \
+  "rjmp  " WMRA_STR(label) "f\n\t"                                  \
+  "sub   %C[r], %A[" #c "]\n\t"                                     \
+  "sbc   %D[r], %B[" #c "]\n" WMRA_STR(label) ":\n\t"
+// - [c < 0] X 2^16 - [x < 0] C 2^32
+#define WMRA_SIGNS32X16_ASM(x, c, label_c, label_x)                  \
+  "sbrs  %B[" #c "], 7\n\t"                                         \
+  "rjmp  " WMRA_STR(label_c) "f\n\t"                                \
+  "sub   %A[r], %A[" #x "]\n\t"                                     \
+  "sbc   %B[r], %B[" #x "]\n\t"                                     \
+  "sbc   %C[r], %C[" #x "]\n\t"                                     \
+  "sbc   %D[r], %D[" #x "]\n" WMRA_STR(label_c) ":\n\t" WMRA_REAL_SIGN_ASM(x, c, label_x)
+// r = bits 15-46 of the product: one left shift of bytes 1-5
+#define WMRA_SHIFT_Q15_ASM \
+  "lsl   %[t]\n\t"         \
+  "rol   %A[r]\n\t"        \
+  "rol   %B[r]\n\t"        \
+  "rol   %C[r]\n\t"        \
+  "rol   %D[r]"
+
+inline int32_t mul_q15(int32_t x, int16_t c) {
+  int32_t r;
+  uint8_t t, z;
+  asm("clr   %[z]\n\t" WMRA_MUL32X16_SET_ASM(x, c) "clr   __zero_reg__\n\t" WMRA_SIGNS32X16_ASM(x, c, 1, 2)
+          WMRA_SHIFT_Q15_ASM
+      : [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z)
+      : [x] "r"(x), [c] "r"(c));
+  return r;
 }
+inline int32_t dot_q15(int16_t a, int32_t x, int16_t b, int32_t y) {
+  int32_t r;
+  uint8_t t, z;
+  asm("clr   %[z]\n\t" WMRA_MUL32X16_SET_ASM(x, a) WMRA_MUL32X16_ADD_ASM(y, b) "clr   __zero_reg__\n\t"
+          WMRA_SIGNS32X16_ASM(x, a, 1, 2) WMRA_SIGNS32X16_ASM(y, b, 3, 4) WMRA_SHIFT_Q15_ASM
+      : [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z)
+      : [a] "r"(a), [x] "r"(x), [b] "r"(b), [y] "r"(y));
+  return r;
+}
+#else
+// x c less the product of the low bytes (see above)
+inline int64_t product_without_low_bytes(int32_t x, int32_t c) {
+  return (int64_t)x * c - (int64_t)(x & 0xFF) * (c & 0xFF);
+}
+inline int32_t mul_q15(int32_t x, int16_t c) { return (int32_t)(product_without_low_bytes(x, c) >> 15); }
+inline int32_t dot_q15(int16_t a, int32_t x, int16_t b, int32_t y) {
+  return (int32_t)((product_without_low_bytes(x, a) + product_without_low_bytes(y, b)) >> 15);
+}
+#endif
+inline Real dot(Unit a, Real x, Unit b, Real y) { return Real{dot_q15(a.raw, x.raw, b.raw, y.raw)}; }
+
+// Unit * Real: Q15 * Q23 = Q38, >>15 gives Q23.
+inline Real operator*(Unit u, Real r) { return Real{mul_q15(r.raw, u.raw)}; }
 inline Real operator*(Real r, Unit u) { return u * r; }
 
 // Unit * Length: Q15 * UQ16 = Q31, >>8 gives Q23.
@@ -318,8 +327,13 @@ inline Real operator+(Length a, Real b) { return to_real(a) + b; }
 
 // Real -> Unit for values known to lie in (-1, 1) (positions of the wrist within 1 m,
 // normalised ratios); saturates instead of wrapping.
+// (r + 2^7) >> 8 is bytes 1-2 of the rounded sum; it fits when byte 3 is their sign.
 inline Unit to_unit(Real r) {
-  return Unit{saturate_unit_raw((r.raw + 0x80) >> 8)};
+  const int32_t rounded = r.raw + 0x80;
+  const int16_t q = (int16_t)(rounded >> 8);
+  const int8_t top = (int8_t)(rounded >> 24);
+  if (top == (q < 0 ? -1 : 0) && q != -32768) return Unit{q};
+  return Unit{(int16_t)(top < 0 ? -kUnitOne : kUnitOne)};
 }
 
 }  // namespace fx

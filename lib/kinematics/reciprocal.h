@@ -1,8 +1,8 @@
 // Reciprocals without a divide instruction, and the damped reciprocal used at singularities.
 //
-// A libgcc 32/16 division costs ~650 cycles on the AVR. Here 1/x is a normalised mantissa
-// and a power of two: x is shifted into [0.5, 1) and 1/(2m) is interpolated in a table
-// (checked exhaustively in test/host).
+// A libgcc 32/16 division costs ~650 cycles on the AVR. Here 1/x comes from a normalised
+// mantissa and a power of two: x is shifted into [0.5, 1) and 1/(2m) is interpolated in a
+// table (checked exhaustively in test/host), then scaled back by the shift.
 #pragma once
 
 #include "kinematics/fixed_point.h"
@@ -11,13 +11,16 @@
 namespace wmra {
 namespace fx {
 
-// value = (negative ? -1 : 1) * mantissa / 2^16 * 2^shift; the mantissa is in [2^15, 2^16)
-// except for values below 0.5 that a damped reciprocal can produce
+// value = (negative ? -1 : 1) * mantissa / 2^16 * scale. The scale is a power of two up to
+// 2^7, so |value| < 128: the singular factors are inverted at least eps = 0.05 away from zero
+// (1/x <= 20), and the largest product of two, 1/(a2 s3), stays below 60. The mantissa is in
+// [2^15, 2^16) except for values below 0.5, which keep scale 1, and for damped values.
 struct Recip {
   uint16_t mantissa;
-  uint8_t shift;
+  uint8_t scale;
   bool negative;
 };
+constexpr uint8_t kRecipMaxScale = 128;
 
 // Table round(2^16 / (2m)) for m = 0.5 + i/512, i = 0..256 (entry 0 saturates at 65535);
 // test/host checks every entry. Neighbours differ by at most 255, so the interpolation is
@@ -60,74 +63,144 @@ inline uint16_t half_reciprocal_uq16(uint16_t normalised) {
   return (uint16_t)(hi - (((uint16_t)step * f2 + 128u) >> 8));
 }
 
-// 1/x for a Unit x != 0.
+// 1/x for a Unit x != 0, saturated at +-128 for |x| < 2^-7.
+// x = a / 2^15; a << s = A in [2^15, 2^16) gives x = 2 (A / 2^16) 2^-s and 1/x = 2^s / (2m):
+// the table's value with scale 2^s.
 inline Recip reciprocal(Unit x) {
   uint16_t magnitude = (uint16_t)(x.raw < 0 ? -(int32_t)x.raw : x.raw);
-  // x = a / 2^15; shift a into [2^15, 2^16): a << s = M, x = 2 (M / 2^16) 2^-s, 1/x = 2^s / (2m)
-  uint8_t s = 0;
+  uint8_t scale = 1;
   while (!(magnitude & 0x8000u)) {
+    if (scale == kRecipMaxScale) return Recip{65535, kRecipMaxScale, x.raw < 0};
     magnitude <<= 1;
-    ++s;
+    scale <<= 1;
   }
-  return Recip{half_reciprocal_uq16(magnitude), s, x.raw < 0};
+  return Recip{half_reciprocal_uq16(magnitude), scale, x.raw < 0};
 }
 
-// Real * Recip, saturated at +-kRecipProductLimit. Only products through a damped
-// reciprocal, with a large twist and two singular factors at once, come near it; the
-// saturation keeps later sums of a few such terms far inside the Real range (+-256).
+// Real * Recip = +-floor((x mantissa - lo8(x) lo8(mantissa)) / 2^16) scale, saturated at
+// +-kRecipProductLimit (lo8 as in fixed_point.h's products).
+// Only products through a damped reciprocal, with a large twist and two singular factors at
+// once, come near the limit; the saturation keeps later sums of a few such terms far inside
+// the Real range (+-256).
 constexpr int32_t kRecipProductLimit = (int32_t)1 << 29;  // 64.0 in Q23
-inline Real operator*(Real r, Recip k) {
-  int32_t p = mul_hi_32xu16(r.raw, k.mantissa);
-  for (uint8_t i = 0; i < k.shift; ++i) {
-    if (p >= kRecipProductLimit / 2 || p <= -kRecipProductLimit / 2) {
-      p = p > 0 ? kRecipProductLimit : -kRecipProductLimit;
-      break;
-    }
-    p += p;
-  }
-  return Real{k.negative ? -p : p};
+#if defined(__AVR__)
+// One asm block. r = floor((x m - lo8(x) lo8(m)) / 2^16) from the partial products of
+// fixed_point.h (only the sign of x to put back, m is unsigned); q = r scale, a 40-bit
+// product of four 8x8 MULs less [r < 0] scale 2^32; q is in range when bytes 3-4, read as
+// an int16, lie in [-32, 32).
+inline Real operator*(Real x, Recip k) {
+  int32_t q, r;
+  uint8_t t, top, z;
+  asm("clr   %[z]\n\t" WMRA_MUL32X16_SET_ASM(x, m) WMRA_REAL_SIGN_ASM(x, m, 1)
+      "mul   %A[r], %[s]\n\t"  // q = r scale
+      "movw  %A[q], r0\n\t"
+      "mul   %C[r], %[s]\n\t"
+      "movw  %C[q], r0\n\t"
+      "mul   %B[r], %[s]\n\t"
+      "clr   %[top]\n\t"
+      "add   %B[q], r0\n\t"
+      "adc   %C[q], r1\n\t"
+      "adc   %D[q], %[z]\n\t"
+      "adc   %[top], %[z]\n\t"
+      "mul   %D[r], %[s]\n\t"
+      "add   %D[q], r0\n\t"
+      "adc   %[top], r1\n\t"
+      "sbrc  %D[r], 7\n\t"
+      "sub   %[top], %[s]\n\t"
+      "clr   __zero_reg__\n\t"
+      "mov   %A[r], %D[q]\n\t"  // (top:D) + 32 < 64 unsigned: in range
+      "mov   %B[r], %[top]\n\t"
+      "subi  %A[r], 0xE0\n\t"
+      "sbci  %B[r], 0xFF\n\t"
+      "cpi   %A[r], 0x40\n\t"
+      "cpc   %B[r], %[z]\n\t"
+      "brlo  2f\n\t"
+      "clr   %A[q]\n\t"  // +-2^29 by the sign of q
+      "clr   %B[q]\n\t"
+      "clr   %C[q]\n\t"
+      "ldi   %A[r], 0x20\n\t"
+      "sbrc  %[top], 7\n\t"
+      "ldi   %A[r], 0xE0\n\t"
+      "mov   %D[q], %A[r]\n"
+      "2:\n\t"
+      "sbrs  %[neg], 0\n\t"
+      "rjmp  3f\n\t"
+      "com   %D[q]\n\t"  // -q = ~q + 1 (com sets the carry)
+      "com   %C[q]\n\t"
+      "com   %B[q]\n\t"
+      "com   %A[q]\n\t"
+      "adc   %A[q], %[z]\n\t"
+      "adc   %B[q], %[z]\n\t"
+      "adc   %C[q], %[z]\n\t"
+      "adc   %D[q], %[z]\n"
+      "3:"
+      : [q] "=&r"(q), [r] "=&d"(r), [t] "=&r"(t), [top] "=&r"(top), [z] "=&r"(z)
+      : [x] "r"(x.raw), [m] "r"(k.mantissa), [s] "r"(k.scale), [neg] "r"(k.negative));
+  return Real{q};
 }
+#else
+inline Real operator*(Real x, Recip k) {
+  const int64_t q = (product_without_low_bytes(x.raw, k.mantissa) >> 16) * k.scale;
+  const int32_t limited = (int32_t)(q > kRecipProductLimit ? kRecipProductLimit : q < -kRecipProductLimit ? -kRecipProductLimit : q);
+  return Real{k.negative ? -limited : limited};
+}
+#endif
 
-// Recip * Recip: the product of the mantissas, renormalised, and the sum of the shifts.
+// Recip * Recip: the product of the mantissas, renormalised, and the product of the scales;
+// saturated at the largest Recip.
 inline Recip operator*(Recip a, Recip b) {
   Word32 p;
   p.u = mul_uu(a.mantissa, b.mantissa);  // UQ32
-  uint8_t shift = (uint8_t)(a.shift + b.shift);
-  if (!(p.u & 0x80000000u) && shift > 0) {
+  uint16_t scale = (uint16_t)a.scale * b.scale;
+  if (!(p.u & 0x80000000u) && scale > 1) {
     p.u <<= 1;
-    --shift;
+    scale >>= 1;
   }
-  return Recip{(uint16_t)p.h.hi, shift, a.negative != b.negative};
+  const bool negative = a.negative != b.negative;
+  if (scale > kRecipMaxScale) return Recip{65535, kRecipMaxScale, negative};
+  return Recip{(uint16_t)p.h.hi, (uint8_t)scale, negative};
 }
 
 // Recip of a positive rational constant c, in integer arithmetic: 1/c = den/num lies in
 // [2^(s-1), 2^s) and the mantissa is (den/num) / 2^s in UQ16.
 constexpr uint8_t recip_shift_for(int64_t den, int64_t num) { return den < num ? 0 : 1 + recip_shift_for(den, num * 2); }
 constexpr Recip recip_from_mantissa(int64_t mantissa, uint8_t shift) {
-  return mantissa >= 65536 ? Recip{32768, (uint8_t)(shift + 1), false} : Recip{(uint16_t)mantissa, shift, false};
+  return mantissa >= 65536 ? Recip{32768, (uint8_t)(1 << (shift + 1)), false} : Recip{(uint16_t)mantissa, (uint8_t)(1 << shift), false};
 }
 constexpr Recip recip_constant(Ratio c) {
-  return recip_from_mantissa(div_round(c.den * 65536, c.num << recip_shift_for(c.den, c.num)),
-                             recip_shift_for(c.den, c.num));
+  return recip_shift_for(c.den, c.num) > 7
+             ? Recip{65535, kRecipMaxScale, false}
+             : recip_from_mantissa(div_round(c.den * 65536, c.num << recip_shift_for(c.den, c.num)),
+                                   recip_shift_for(c.den, c.num));
+}
+
+// The band |x| < eps of a damped reciprocal. Inside it |x|/eps^2 < 1/eps gets the fixed scale
+// 2^s >= 1/eps, so a = |x| in Q15 is below 2^(16 - s), and the mantissa
+// a / eps^2 / 2^s in UQ16 is (a 2^s) slope / 2^15 with slope = 2^(46 - 2s) / eps^2 in Q15
+// units, which lies in (2^14, 2^16].
+struct DampedBand {
+  Unit eps;
+  uint16_t slope;
+  uint8_t scale;
+};
+constexpr uint8_t damped_shift_for(int64_t eps_raw, uint8_t shift = 0) {
+  return (32768 >> shift) <= eps_raw ? shift : damped_shift_for(eps_raw, (uint8_t)(shift + 1));
+}
+constexpr uint16_t damped_slope(int64_t slope) { return (uint16_t)(slope > 65535 ? 65535 : slope); }
+constexpr DampedBand damped_band(Unit eps) {
+  return DampedBand{
+      eps,
+      damped_slope(div_round((int64_t)1 << (46 - 2 * damped_shift_for(eps.raw)), (int64_t)eps.raw * eps.raw)),
+      (uint8_t)(1 << damped_shift_for(eps.raw))};
 }
 
 // Damped reciprocal: 1/x for |x| >= eps, x/eps^2 inside the band. It is odd, continuous
 // at |x| = eps, bounded by 1/eps, and zero at x = 0, so a factor that passes through zero
 // gives joint velocities that pass through zero instead of jumping to infinity.
-// inv_eps2 = recip_constant(eps * eps).
-inline Recip damped_reciprocal(Unit x, Unit eps, Recip inv_eps2) {
+inline Recip damped_reciprocal(Unit x, DampedBand band) {
   const int16_t a = x.raw < 0 ? -x.raw : x.raw;
-  if (a >= eps.raw) return reciprocal(x);
-  // (a/2^15)*(mant/2^16) = p/2^31, so the value is (p>>16)/2^16 * 2^(shift+1); normalise the
-  // mantissa for precision, but never below a shift of 0 (tiny values keep a small mantissa)
-  Word32 n;
-  n.u = mul_uu((uint16_t)a, inv_eps2.mantissa);
-  uint8_t shift = inv_eps2.shift + 1;
-  while (!(n.u & 0x80000000u) && shift > 0) {
-    n.u <<= 1;
-    --shift;
-  }
-  return Recip{(uint16_t)n.h.hi, shift, x.raw < 0};
+  if (a >= band.eps.raw) return reciprocal(x);
+  return Recip{hi16(mul_uu((uint16_t)(a * band.scale), band.slope) << 1), band.scale, x.raw < 0};
 }
 
 }  // namespace fx
