@@ -251,11 +251,28 @@ inline Real operator-(Real a) { return Real{-a.raw}; }
   WMRA_MUL_ASM(x, B, c, B) WMRA_ADD_AT2_ASM       \
   WMRA_MUL_ASM(x, D, c, A) WMRA_ADD_AT3_ASM       \
   WMRA_MUL_ASM(x, C, c, B) WMRA_ADD_AT3_ASM
-// t:r += X C (bytes 1-5)
-#define WMRA_MUL32X16_ADD_ASM(x, c)                \
-  WMRA_MUL_ASM(x, B, c, A) WMRA_ADD_AT1_ASM       \
-  WMRA_MUL_ASM(x, C, c, A) WMRA_ADD_AT2_ASM       \
-  WMRA_MUL_ASM(x, D, c, B) WMRA_ADD_AT4_ASM WMRA_MUL32X16_REST_ASM(x, c)
+// t:r = X A + Y B (bytes 1-5), column by column: each column's products go into its byte
+// and the next, and their carries into the byte above, which starts at zero
+#define WMRA_COLUMN_ASM(lo, hi, carry) \
+  "add   " lo ", r0\n\t"               \
+  "adc   " hi ", r1\n\t"               \
+  "adc   " carry ", %[z]\n\t"
+#define WMRA_COLUMN1_ASM WMRA_COLUMN_ASM("%[t]", "%A[r]", "%B[r]")
+#define WMRA_COLUMN2_ASM WMRA_COLUMN_ASM("%A[r]", "%B[r]", "%C[r]")
+#define WMRA_DOT32X16_ASM(x, a, y, b)                                                  \
+  "clr   %B[r]\n\t"                                                                    \
+  "clr   %C[r]\n\t"                                                                    \
+  "clr   %D[r]\n\t" WMRA_MUL_ASM(x, B, a, A) "mov   %[t], r0\n\t" /* @1 */           \
+  "mov   %A[r], r1\n\t" WMRA_MUL_ASM(x, A, a, B) WMRA_COLUMN1_ASM                     \
+  WMRA_MUL_ASM(y, B, b, A) WMRA_COLUMN1_ASM WMRA_MUL_ASM(y, A, b, B) WMRA_COLUMN1_ASM \
+  WMRA_MUL_ASM(x, C, a, A) WMRA_COLUMN2_ASM /* @2 */                                 \
+  WMRA_MUL_ASM(x, B, a, B) WMRA_COLUMN2_ASM WMRA_MUL_ASM(y, C, b, A) WMRA_COLUMN2_ASM \
+  WMRA_MUL_ASM(y, B, b, B) WMRA_COLUMN2_ASM                                            \
+  WMRA_MUL_ASM(x, D, a, A) WMRA_ADD_AT3_ASM /* @3 */                                 \
+  WMRA_MUL_ASM(x, C, a, B) WMRA_ADD_AT3_ASM WMRA_MUL_ASM(y, D, b, A) WMRA_ADD_AT3_ASM \
+  WMRA_MUL_ASM(y, C, b, B) WMRA_ADD_AT3_ASM                                            \
+  WMRA_MUL_ASM(x, D, a, B) WMRA_ADD_AT4_ASM /* @4 */                                 \
+  WMRA_MUL_ASM(y, D, b, B) WMRA_ADD_AT4_ASM
 // - [x < 0] C 2^32
 #define WMRA_REAL_SIGN_ASM(x, c, label)                              \
   "sbrs  %D[" #x "], 7\n\t"                                         \
@@ -290,7 +307,7 @@ inline int32_t mul_q15(int32_t x, int16_t c) {
 inline int32_t dot_q15(int16_t a, int32_t x, int16_t b, int32_t y) {
   int32_t r;
   uint8_t t, z;
-  asm("clr   %[z]\n\t" WMRA_MUL32X16_SET_ASM(x, a) WMRA_MUL32X16_ADD_ASM(y, b) "clr   __zero_reg__\n\t"
+  asm("clr   %[z]\n\t" WMRA_DOT32X16_ASM(x, a, y, b) "clr   __zero_reg__\n\t"
           WMRA_SIGNS32X16_ASM(x, a, 1, 2) WMRA_SIGNS32X16_ASM(y, b, 3, 4) WMRA_SHIFT_Q15_ASM
       : [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z)
       : [a] "r"(a), [x] "r"(x), [b] "r"(b), [y] "r"(y));
@@ -328,6 +345,43 @@ inline Real operator+(Length a, Real b) { return to_real(a) + b; }
 // Real -> Unit for values known to lie in (-1, 1) (positions of the wrist within 1 m,
 // normalised ratios); saturates instead of wrapping.
 // (r + 2^7) >> 8 is bytes 1-2 of the rounded sum; it fits when byte 3 is their sign.
+#if defined(__AVR__)
+inline Unit to_unit(Real r) {
+  int16_t q;
+  uint8_t top, t, z;
+  asm("clr   %[z]\n\t"
+      "mov   %[t], %A[r]\n\t"
+      "lsl   %[t]\n\t"  // bit 7 rounds up
+      "mov   %A[q], %B[r]\n\t"
+      "adc   %A[q], %[z]\n\t"
+      "mov   %B[q], %C[r]\n\t"
+      "adc   %B[q], %[z]\n\t"
+      "mov   %[top], %D[r]\n\t"
+      "adc   %[top], %[z]\n\t"
+      "mov   %[t], %B[q]\n\t"  // the sign of q, 0 or 0xFF, against byte 3
+      "lsl   %[t]\n\t"
+      "sbc   %[t], %[t]\n\t"
+      "cp    %[t], %[top]\n\t"
+      "brne  1f\n\t"
+      "tst   %A[q]\n\t"  // -32768 -> -32767
+      "brne  2f\n\t"
+      "cpi   %B[q], 0x80\n\t"
+      "brne  2f\n\t"
+      "ldi   %A[q], 0x01\n\t"
+      "rjmp  2f\n"
+      "1:\n\t"
+      "ldi   %A[q], 0xFF\n\t"  // +-32767 by the sign of the sum
+      "ldi   %B[q], 0x7F\n\t"
+      "sbrs  %[top], 7\n\t"
+      "rjmp  2f\n\t"
+      "ldi   %A[q], 0x01\n\t"
+      "ldi   %B[q], 0x80\n"
+      "2:"
+      : [q] "=&d"(q), [top] "=&r"(top), [t] "=&r"(t), [z] "=&r"(z)
+      : [r] "r"(r.raw));
+  return Unit{q};
+}
+#else
 inline Unit to_unit(Real r) {
   const int32_t rounded = r.raw + 0x80;
   const int16_t q = (int16_t)(rounded >> 8);
@@ -335,6 +389,7 @@ inline Unit to_unit(Real r) {
   if (top == (q < 0 ? -1 : 0) && q != -32768) return Unit{q};
   return Unit{(int16_t)(top < 0 ? -kUnitOne : kUnitOne)};
 }
+#endif
 
 }  // namespace fx
 }  // namespace wmra

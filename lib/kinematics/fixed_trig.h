@@ -76,52 +76,77 @@ inline int16_t interpolate_down(const int16_t* t, uint8_t i, uint8_t f) {
   const uint8_t step = (uint8_t)(hi - flash_read_i16(t + 255 - i));
   return (int16_t)(hi - (((uint16_t)step * f + 128u) >> 8));
 }
-// sin and cos of the angle within its quadrant. On the AVR both interpolations are one asm
-// block: eight LPM reads and two MULs, with (x + 128) >> 8 as the high byte plus bit 7 of
-// the low byte. Only the low bytes of the neighbours are needed for the step (<= 201).
+// sin and cos of an angle: the table interpolated up (sine) and down (cosine) at the angle
+// within its quadrant, then swapped and negated by the quadrant.
 #if defined(__AVR__)
-inline SinCos sincos_quadrant(uint8_t i, uint8_t f) {
-  const int16_t* up = sin_table() + i;
-  const int16_t* down = sin_table() + 255 - i;
+// One asm block: six LPM reads and two MULs, with (x + 128) >> 8 as the high byte plus bit 7
+// of the low byte; only the low bytes of the neighbours are needed for the step (<= 201).
+// Byte 1 of the angle is the table index i, byte 0 the fraction, bits 16-17 the quadrant.
+inline SinCos sincos(Angle a) {
+  const int16_t* up = sin_table();          // + i below
+  const int16_t* down = sin_table() + 255;  // - i below
   int16_t s, c;
-  uint8_t a, b, zero;
+  uint8_t step, low, zero;
   asm("clr   %[zero]\n\t"
-      "lpm   %A[s], Z+\n\t"       // t[i]
+      "add   r30, %B[a]\n\t"
+      "adc   r31, %[zero]\n\t"
+      "add   r30, %B[a]\n\t"
+      "adc   r31, %[zero]\n\t"
+      "sub   %A[down], %B[a]\n\t"
+      "sbc   %B[down], %[zero]\n\t"
+      "sub   %A[down], %B[a]\n\t"
+      "sbc   %B[down], %[zero]\n\t"
+      "lpm   %A[s], Z+\n\t"  // t[i]
       "lpm   %B[s], Z+\n\t"
-      "lpm   %[a], Z\n\t"         // low byte of t[i + 1]
-      "sub   %[a], %A[s]\n\t"
-      "mul   %[a], %[f]\n\t"
+      "lpm   %[step], Z\n\t"  // low byte of t[i + 1]
+      "sub   %[step], %A[s]\n\t"
+      "mul   %[step], %A[a]\n\t"
       "lsl   r0\n\t"
       "adc   r1, %[zero]\n\t"
       "add   %A[s], r1\n\t"
       "adc   %B[s], %[zero]\n\t"
       "movw  r30, %[down]\n\t"
-      "lpm   %[b], Z\n\t"         // low byte of t[255 - i]
+      "lpm   %[low], Z\n\t"  // low byte of t[255 - i]
       "adiw  r30, 2\n\t"
-      "lpm   %A[c], Z+\n\t"       // t[256 - i]
+      "lpm   %A[c], Z+\n\t"  // t[256 - i]
       "lpm   %B[c], Z\n\t"
-      "mov   %[a], %A[c]\n\t"
-      "sub   %[a], %[b]\n\t"
-      "mul   %[a], %[f]\n\t"
+      "mov   %[step], %A[c]\n\t"
+      "sub   %[step], %[low]\n\t"
+      "mul   %[step], %A[a]\n\t"
       "lsl   r0\n\t"
       "adc   r1, %[zero]\n\t"
       "sub   %A[c], r1\n\t"
       "sbc   %B[c], %[zero]\n\t"
-      "clr   __zero_reg__"
-      : [s] "=&r"(s), [c] "=&r"(c), [a] "=&r"(a), [b] "=&r"(b), [zero] "=&r"(zero), "+z"(up)
-      : [down] "r"(down), [f] "r"(f));
+      "clr   __zero_reg__\n\t"
+      "sbrs  %C[a], 0\n\t"  // quadrants 1, 3: (s, c) = (c, -s)
+      "rjmp  1f\n\t"
+      "movw  %[down], %[c]\n\t"
+      "movw  %[c], %[s]\n\t"
+      "movw  %[s], %[down]\n\t"
+      "neg   %B[c]\n\t"
+      "neg   %A[c]\n\t"
+      "sbc   %B[c], %[zero]\n"
+      "1:\n\t"
+      "sbrs  %C[a], 1\n\t"  // quadrants 2, 3: (s, c) = (-s, -c)
+      "rjmp  2f\n\t"
+      "neg   %B[s]\n\t"
+      "neg   %A[s]\n\t"
+      "sbc   %B[s], %[zero]\n\t"
+      "neg   %B[c]\n\t"
+      "neg   %A[c]\n\t"
+      "sbc   %B[c], %[zero]\n"
+      "2:"
+      : [s] "=&r"(s), [c] "=&r"(c), [step] "=&r"(step), [low] "=&r"(low), [zero] "=&r"(zero), "+z"(up),
+        [down] "+r"(down)
+      : [a] "r"(a.raw));
   return SinCos{Unit{s}, Unit{c}};
 }
 #else
-inline SinCos sincos_quadrant(uint8_t i, uint8_t f) {
-  return SinCos{Unit{interpolate_up(sin_table(), i, f)}, Unit{interpolate_down(sin_table(), i, f)}};
-}
-#endif
-
 inline SinCos sincos(Angle a) {
-  const SinCos q = sincos_quadrant((uint8_t)(a.raw >> 8), (uint8_t)a.raw);
-  const int16_t s0 = q.s.raw;
-  const int16_t c0 = q.c.raw;
+  const uint8_t i = (uint8_t)(a.raw >> 8);
+  const uint8_t f = (uint8_t)a.raw;
+  const int16_t s0 = interpolate_up(sin_table(), i, f);
+  const int16_t c0 = interpolate_down(sin_table(), i, f);
   switch ((uint8_t)(a.raw >> 16) & 3u) {
     case 0: return SinCos{Unit{s0}, Unit{c0}};
     case 1: return SinCos{Unit{c0}, Unit{(int16_t)-s0}};
@@ -129,6 +154,7 @@ inline SinCos sincos(Angle a) {
     default: return SinCos{Unit{(int16_t)-c0}, Unit{s0}};
   }
 }
+#endif
 
 inline Unit sin(Angle a) {
   const uint8_t i = (uint8_t)(a.raw >> 8);

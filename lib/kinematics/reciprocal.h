@@ -53,15 +53,50 @@ inline const uint16_t* half_reciprocal_table() {
   return table;
 }
 
-// 1/(2m) in UQ16 for m = normalised / 2^16 in [0.5, 1)
+// 1/(2m) in UQ16 for m = normalised / 2^16 in [0.5, 1): the table at i = the 8 bits after
+// the leading one, less step * f2 / 256 rounded, with f2 the remaining 7 bits (as a fraction
+// of 256) and step the drop to the next entry (< 256, so only the low bytes are read).
+#if defined(__AVR__)
+// One asm block: three LPM reads and one MUL, with (x + 128) >> 8 as the high byte plus
+// bit 7 of the low byte.
 inline uint16_t half_reciprocal_uq16(uint16_t normalised) {
-  const uint8_t i = (uint8_t)(normalised >> 7);   // the 8 bits after the leading one
-  const uint8_t f2 = (uint8_t)(normalised << 1);  // the remaining 7 bits, as a fraction of 256
+  const uint16_t* t = half_reciprocal_table();
+  uint16_t r;
+  uint8_t i, f2, step, z;
+  asm("clr   %[z]\n\t"
+      "mov   %[f2], %A[n]\n\t"
+      "lsl   %[f2]\n\t"  // f2, and bit 7 into the carry
+      "mov   %[i], %B[n]\n\t"
+      "rol   %[i]\n\t"   // i: bits 7-14
+      "add   r30, %[i]\n\t"
+      "adc   r31, %[z]\n\t"
+      "add   r30, %[i]\n\t"
+      "adc   r31, %[z]\n\t"
+      "lpm   %A[r], Z+\n\t"  // t[i]
+      "lpm   %B[r], Z+\n\t"
+      "lpm   %[step], Z\n\t"  // low byte of t[i + 1]
+      "neg   %[step]\n\t"
+      "add   %[step], %A[r]\n\t"
+      "mul   %[step], %[f2]\n\t"
+      "lsl   r0\n\t"
+      "adc   r1, %[z]\n\t"
+      "sub   %A[r], r1\n\t"
+      "sbc   %B[r], %[z]\n\t"
+      "clr   __zero_reg__"
+      : [r] "=&r"(r), [i] "=&r"(i), [f2] "=&r"(f2), [step] "=&r"(step), [z] "=&r"(z), "+z"(t)
+      : [n] "r"(normalised));
+  return r;
+}
+#else
+inline uint16_t half_reciprocal_uq16(uint16_t normalised) {
+  const uint8_t i = (uint8_t)(normalised >> 7);
+  const uint8_t f2 = (uint8_t)(normalised << 1);
   const uint16_t* t = half_reciprocal_table();
   const uint16_t hi = flash_read_u16(t + i);
   const uint8_t step = (uint8_t)(hi - flash_read_u16(t + i + 1));
   return (uint16_t)(hi - (((uint16_t)step * f2 + 128u) >> 8));
 }
+#endif
 
 // 1/x for a Unit x != 0, saturated at +-128 for |x| < 2^-7.
 // x = a / 2^15; a << s = A in [2^15, 2^16) gives x = 2 (A / 2^16) 2^-s and 1/x = 2^s / (2m):
@@ -146,20 +181,60 @@ inline Real operator*(Real x, Recip k) {
 }
 #endif
 
-// Recip * Recip: the product of the mantissas, renormalised, and the product of the scales;
-// saturated at the largest Recip.
+// Recip * Recip: the high half of the product of the mantissas, renormalised by one bit if
+// the scale allows, and the product of the scales; saturated at the largest Recip.
+#if defined(__AVR__)
+// One asm block: the three high 8x8 partial products of the mantissas (byte 0 of the 32-bit
+// product never carries) and one for the scales.
 inline Recip operator*(Recip a, Recip b) {
-  Word32 p;
-  p.u = mul_uu(a.mantissa, b.mantissa);  // UQ32
-  uint16_t scale = (uint16_t)a.scale * b.scale;
-  if (!(p.u & 0x80000000u) && scale > 1) {
-    p.u <<= 1;
+  uint16_t m, scale;
+  uint8_t t, z;
+  asm("clr   %[z]\n\t"
+      "mul   %A[a], %A[b]\n\t"  // @0
+      "mov   %[t], r1\n\t"
+      "mul   %B[a], %B[b]\n\t"  // @2
+      "movw  %[m], r0\n\t"
+      "mul   %B[a], %A[b]\n\t"  // @1
+      "add   %[t], r0\n\t"
+      "adc   %A[m], r1\n\t"
+      "adc   %B[m], %[z]\n\t"
+      "mul   %A[a], %B[b]\n\t"  // @1
+      "add   %[t], r0\n\t"
+      "adc   %A[m], r1\n\t"
+      "adc   %B[m], %[z]\n\t"
+      "mul   %[sa], %[sb]\n\t"
+      "movw  %[scale], r0\n\t"
+      "clr   __zero_reg__\n\t"
+      "sbrc  %B[m], 7\n\t"  // renormalise: the top bit clear and scale > 1
+      "rjmp  1f\n\t"
+      "cpi   %A[scale], 2\n\t"
+      "cpc   %B[scale], %[z]\n\t"
+      "brlo  1f\n\t"
+      "lsl   %[t]\n\t"
+      "rol   %A[m]\n\t"
+      "rol   %B[m]\n\t"
+      "lsr   %B[scale]\n\t"
+      "ror   %A[scale]\n"
+      "1:"
+      : [m] "=&r"(m), [scale] "=&d"(scale), [t] "=&r"(t), [z] "=&r"(z)
+      : [a] "r"(a.mantissa), [b] "r"(b.mantissa), [sa] "r"(a.scale), [sb] "r"(b.scale));
+  const bool negative = a.negative != b.negative;
+  if (scale > kRecipMaxScale) return Recip{65535, kRecipMaxScale, negative};
+  return Recip{m, (uint8_t)scale, negative};
+}
+#else
+inline Recip operator*(Recip a, Recip b) {
+  uint32_t p = (uint32_t)a.mantissa * b.mantissa;  // UQ32
+  uint16_t scale = (uint16_t)(a.scale * b.scale);
+  if (!(p & 0x80000000u) && scale > 1) {
+    p <<= 1;
     scale >>= 1;
   }
   const bool negative = a.negative != b.negative;
   if (scale > kRecipMaxScale) return Recip{65535, kRecipMaxScale, negative};
-  return Recip{(uint16_t)p.h.hi, (uint8_t)scale, negative};
+  return Recip{(uint16_t)(p >> 16), (uint8_t)scale, negative};
 }
+#endif
 
 // Recip of a positive rational constant c, in integer arithmetic: 1/c = den/num lies in
 // [2^(s-1), 2^s) and the mantissa is (den/num) / 2^s in UQ16.
