@@ -56,38 +56,6 @@ inline const uint16_t* half_reciprocal_table() {
 // 1/(2m) in UQ16 for m = normalised / 2^16 in [0.5, 1): the table at i = the 8 bits after
 // the leading one, less step * f2 / 256 rounded, with f2 the remaining 7 bits (as a fraction
 // of 256) and step the drop to the next entry (< 256, so only the low bytes are read).
-#if defined(__AVR__)
-// One asm block: three LPM reads and one MUL, with (x + 128) >> 8 as the high byte plus
-// bit 7 of the low byte.
-inline uint16_t half_reciprocal_uq16(uint16_t normalised) {
-  const uint16_t* t = half_reciprocal_table();
-  uint16_t r;
-  uint8_t i, f2, step, z;
-  asm("clr   %[z]\n\t"
-      "mov   %[f2], %A[n]\n\t"
-      "lsl   %[f2]\n\t"  // f2, and bit 7 into the carry
-      "mov   %[i], %B[n]\n\t"
-      "rol   %[i]\n\t"   // i: bits 7-14
-      "add   r30, %[i]\n\t"
-      "adc   r31, %[z]\n\t"
-      "add   r30, %[i]\n\t"
-      "adc   r31, %[z]\n\t"
-      "lpm   %A[r], Z+\n\t"  // t[i]
-      "lpm   %B[r], Z+\n\t"
-      "lpm   %[step], Z\n\t"  // low byte of t[i + 1]
-      "neg   %[step]\n\t"
-      "add   %[step], %A[r]\n\t"
-      "mul   %[step], %[f2]\n\t"
-      "lsl   r0\n\t"
-      "adc   r1, %[z]\n\t"
-      "sub   %A[r], r1\n\t"
-      "sbc   %B[r], %[z]\n\t"
-      "clr   __zero_reg__"
-      : [r] "=&r"(r), [i] "=&r"(i), [f2] "=&r"(f2), [step] "=&r"(step), [z] "=&r"(z), "+z"(t)
-      : [n] "r"(normalised));
-  return r;
-}
-#else
 inline uint16_t half_reciprocal_uq16(uint16_t normalised) {
   const uint8_t i = (uint8_t)(normalised >> 7);
   const uint8_t f2 = (uint8_t)(normalised << 1);
@@ -96,20 +64,74 @@ inline uint16_t half_reciprocal_uq16(uint16_t normalised) {
   const uint8_t step = (uint8_t)(hi - flash_read_u16(t + i + 1));
   return (uint16_t)(hi - (((uint16_t)step * f2 + 128u) >> 8));
 }
-#endif
 
-// 1/x for a Unit x != 0, saturated at +-128 for |x| < 2^-7.
+// 1/x for x = +-magnitude / 2^15, magnitude != 0, saturated at +-128 for |x| < 2^-7.
 // x = a / 2^15; a << s = A in [2^15, 2^16) gives x = 2 (A / 2^16) 2^-s and 1/x = 2^s / (2m):
 // the table's value with scale 2^s.
-inline Recip reciprocal(Unit x) {
-  uint16_t magnitude = (uint16_t)(x.raw < 0 ? -(int32_t)x.raw : x.raw);
+#if defined(__AVR__)
+// One asm block: the doublings unrolled (at most seven), then half_reciprocal_uq16 with
+// three LPM reads and one MUL ((x + 128) >> 8 as the high byte plus bit 7 of the low byte).
+#define WMRA_DOUBLE_UNLESS_NORMALISED_ASM \
+  "sbrc  %B[n], 7\n\t"                    \
+  "rjmp  1f\n\t"                          \
+  "lsl   %A[n]\n\t"                       \
+  "rol   %B[n]\n\t"                       \
+  "lsl   %[scale]\n\t"
+inline Recip reciprocal_of_magnitude(uint16_t magnitude, bool negative) {
+  const uint16_t* t = half_reciprocal_table();
+  uint16_t m;
+  uint8_t scale, i, f2, z;
+  asm("ldi   %[scale], 1\n\t"
+      WMRA_DOUBLE_UNLESS_NORMALISED_ASM WMRA_DOUBLE_UNLESS_NORMALISED_ASM WMRA_DOUBLE_UNLESS_NORMALISED_ASM
+      WMRA_DOUBLE_UNLESS_NORMALISED_ASM WMRA_DOUBLE_UNLESS_NORMALISED_ASM WMRA_DOUBLE_UNLESS_NORMALISED_ASM
+      WMRA_DOUBLE_UNLESS_NORMALISED_ASM
+      "sbrc  %B[n], 7\n\t"
+      "rjmp  1f\n\t"
+      "ldi   %A[m], 0xFF\n\t"  // still below 2^15 after seven doublings: saturated
+      "ldi   %B[m], 0xFF\n\t"
+      "rjmp  2f\n"
+      "1:\n\t"
+      "clr   %[z]\n\t"
+      "mov   %[f2], %A[n]\n\t"
+      "lsl   %[f2]\n\t"  // f2, and bit 7 into the carry
+      "mov   %[i], %B[n]\n\t"
+      "rol   %[i]\n\t"  // i: bits 7-14
+      "add   r30, %[i]\n\t"
+      "adc   r31, %[z]\n\t"
+      "add   r30, %[i]\n\t"
+      "adc   r31, %[z]\n\t"
+      "lpm   %A[m], Z+\n\t"  // t[i]
+      "lpm   %B[m], Z+\n\t"
+      "lpm   %[i], Z\n\t"  // low byte of t[i + 1]
+      "neg   %[i]\n\t"
+      "add   %[i], %A[m]\n\t"  // the step
+      "mul   %[i], %[f2]\n\t"
+      "lsl   r0\n\t"
+      "adc   r1, %[z]\n\t"
+      "sub   %A[m], r1\n\t"
+      "sbc   %B[m], %[z]\n\t"
+      "clr   __zero_reg__\n"
+      "2:"
+      : [m] "=&d"(m), [scale] "=&d"(scale), [i] "=&r"(i), [f2] "=&r"(f2), [z] "=&r"(z), "+z"(t),
+        [n] "+r"(magnitude));
+  return Recip{m, scale, negative};
+}
+#undef WMRA_DOUBLE_UNLESS_NORMALISED_ASM
+#else
+inline Recip reciprocal_of_magnitude(uint16_t magnitude, bool negative) {
   uint8_t scale = 1;
   while (!(magnitude & 0x8000u)) {
-    if (scale == kRecipMaxScale) return Recip{65535, kRecipMaxScale, x.raw < 0};
+    if (scale == kRecipMaxScale) return Recip{65535, kRecipMaxScale, negative};
     magnitude <<= 1;
     scale <<= 1;
   }
-  return Recip{half_reciprocal_uq16(magnitude), scale, x.raw < 0};
+  return Recip{half_reciprocal_uq16(magnitude), scale, negative};
+}
+#endif
+
+// 1/x for a Unit x != 0, saturated at +-128 for |x| < 2^-7.
+inline Recip reciprocal(Unit x) {
+  return reciprocal_of_magnitude((uint16_t)(x.raw < 0 ? -(int32_t)x.raw : x.raw), x.raw < 0);
 }
 
 // Real * Recip = +-floor((x mantissa - lo8(x) lo8(mantissa)) / 2^16) scale, saturated at
@@ -274,7 +296,7 @@ constexpr DampedBand damped_band(Unit eps) {
 // gives joint velocities that pass through zero instead of jumping to infinity.
 inline Recip damped_reciprocal(Unit x, DampedBand band) {
   const int16_t a = x.raw < 0 ? -x.raw : x.raw;
-  if (a >= band.eps.raw) return reciprocal(x);
+  if (a >= band.eps.raw) return reciprocal_of_magnitude((uint16_t)a, x.raw < 0);
   return Recip{hi16(mul_uu((uint16_t)(a * band.scale), band.slope) << 1), band.scale, x.raw < 0};
 }
 

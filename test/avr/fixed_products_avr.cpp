@@ -87,12 +87,18 @@ void check_tables(vectors::Lcg& rng) {
     check("sin", a.raw, 0, sc.s.raw, s);
     check("cos", a.raw, 0, sc.c.raw, c);
   }
-  const uint16_t* t = fx::half_reciprocal_table();
-  for (uint32_t normalised = 32768; normalised < 65536; normalised += 3) {
-    const uint8_t i = (uint8_t)(normalised >> 7), f2 = (uint8_t)(normalised << 1);
-    const uint16_t hi = fx::flash_read_u16(t + i);
-    const uint8_t step = (uint8_t)(hi - fx::flash_read_u16(t + i + 1));
-    check("1/2m", normalised, 0, fx::half_reciprocal_uq16((uint16_t)normalised), (uint16_t)(hi - (((uint16_t)step * f2 + 128u) >> 8)));
+  for (uint16_t magnitude = 1; magnitude <= 32767; magnitude += (magnitude < 512 ? 1 : 5)) {
+    uint16_t normalised = magnitude;
+    uint8_t scale = 1;
+    while (!(normalised & 0x8000u) && scale < fx::kRecipMaxScale) {
+      normalised <<= 1;
+      scale <<= 1;
+    }
+    const bool saturated = !(normalised & 0x8000u);
+    const fx::Recip k = fx::reciprocal_of_magnitude(magnitude, true);
+    check("1/x", magnitude, 0, k.mantissa, saturated ? 65535 : fx::half_reciprocal_uq16(normalised));
+    check("1/x scale", magnitude, 0, k.scale, scale);
+    check("1/x sign", magnitude, 0, k.negative, true);
   }
 }
 
