@@ -6,7 +6,8 @@
 //   Unit     int16  Q15   [-1, 1)       sines, cosines, rotation-matrix entries
 //   Length   uint16 UQ16  [0, 1) metres link-length constants (every link is < 1 m)
 //   Real     int32  Q23   +-256         positions (m), velocities (m/s, rad/s), rates
-// Unit*Length is one 16x16 product whose Q31 result is shifted by 8 into Q23.
+// Unit*Length is one 16x16 product, a Q31 Span; sums of them stay exact until they join a
+// Real (shifted by 8 into Q23) or become a Unit (rounded into Q15).
 // Unit*Real is a 32x16 product of 8x8 MULs (no int64 anywhere), shifted by 15 into Q23;
 // a sum of two of them is one fused product (dot).
 // Unit*Unit is one 16x16 product, doubled and rounded into Q15.
@@ -329,65 +330,54 @@ inline Real dot(Unit a, Real x, Unit b, Real y) { return Real{dot_q15(a.raw, x.r
 inline Real operator*(Unit u, Real r) { return Real{mul_q15(r.raw, u.raw)}; }
 inline Real operator*(Real r, Unit u) { return u * r; }
 
-// Unit * Length: Q15 * UQ16 = Q31, >>8 gives Q23.
-inline Real operator*(Unit u, Length l) {
-  Word32 p;
-  p.s = mul_us(l.raw, u.raw);
-  return Real{p.s >> 8};
-}
-inline Real operator*(Length l, Unit u) { return u * l; }
-
 inline Real to_real(Length l) { return Real{(int32_t)l.raw << 7}; }
 inline Real to_real(Unit u) { return Real{(int32_t)u.raw << 8}; }
 inline Real operator+(Real a, Length b) { return a + to_real(b); }
 inline Real operator+(Length a, Real b) { return to_real(a) + b; }
 
-// Real -> Unit for values known to lie in (-1, 1) (positions of the wrist within 1 m,
-// normalised ratios); saturates instead of wrapping.
-// (r + 2^7) >> 8 is bytes 1-2 of the rounded sum; it fits when byte 3 is their sign.
+// --- Span: Q31 metres in (-1, 1), a Unit * Length product (Q15 * UQ16, exact) or a sum of
+// such products and Lengths along one link chain; the arm's chains stay below 1 m
+// (arm_model.h). A Span joins Real arithmetic as Q23, floor(s / 2^8).
+struct Span {
+  int32_t raw;
+};
+inline Span operator*(Unit u, Length l) { return Span{mul_us(l.raw, u.raw)}; }
+inline Span operator*(Length l, Unit u) { return u * l; }
+inline Span operator+(Span a, Span b) { return Span{a.raw + b.raw}; }
+inline Span operator+(Length a, Span b) { return Span{(int32_t)((uint32_t)a.raw << 15) + b.raw}; }
+inline Real to_real(Span s) { return Real{s.raw >> 8}; }
+inline Real operator+(Span a, Real b) { return to_real(a) + b; }
+inline Real operator*(Unit u, Span s) { return u * to_real(s); }
+
+// Span -> Unit, rounded: (s + 2^15) >> 16, saturated at +-32767.
 #if defined(__AVR__)
-inline Unit to_unit(Real r) {
+// Bytes 2-3 of s plus bit 15; the carry out of the top (V) saturates.
+inline Unit to_unit(Span s) {
   int16_t q;
-  uint8_t top, t, z;
+  uint8_t t, z;
   asm("clr   %[z]\n\t"
-      "mov   %[t], %A[r]\n\t"
-      "lsl   %[t]\n\t"  // bit 7 rounds up
-      "mov   %A[q], %B[r]\n\t"
+      "mov   %[t], %B[s]\n\t"
+      "lsl   %[t]\n\t"  // bit 15 rounds up
+      "movw  %A[q], %C[s]\n\t"
       "adc   %A[q], %[z]\n\t"
-      "mov   %B[q], %C[r]\n\t"
       "adc   %B[q], %[z]\n\t"
-      "mov   %[top], %D[r]\n\t"
-      "adc   %[top], %[z]\n\t"
-      "mov   %[t], %B[q]\n\t"  // the sign of q, 0 or 0xFF, against byte 3
-      "lsl   %[t]\n\t"
-      "sbc   %[t], %[t]\n\t"
-      "cp    %[t], %[top]\n\t"
-      "brne  1f\n\t"
-      "tst   %A[q]\n\t"  // -32768 -> -32767
-      "brne  2f\n\t"
-      "cpi   %B[q], 0x80\n\t"
-      "brne  2f\n\t"
-      "ldi   %A[q], 0x01\n\t"
-      "rjmp  2f\n"
+      "brvc  1f\n\t"
+      "ldi   %A[q], 0xFF\n\t"  // 0x7FFF + 1 overflowed
+      "ldi   %B[q], 0x7F\n"
       "1:\n\t"
-      "ldi   %A[q], 0xFF\n\t"  // +-32767 by the sign of the sum
-      "ldi   %B[q], 0x7F\n\t"
-      "sbrs  %[top], 7\n\t"
-      "rjmp  2f\n\t"
-      "ldi   %A[q], 0x01\n\t"
-      "ldi   %B[q], 0x80\n"
+      "cpi   %B[q], 0x80\n\t"  // -32768 -> -32767
+      "cpc   %A[q], %[z]\n\t"
+      "brne  2f\n\t"
+      "ldi   %A[q], 0x01\n"
       "2:"
-      : [q] "=&d"(q), [top] "=&r"(top), [t] "=&r"(t), [z] "=&r"(z)
-      : [r] "r"(r.raw));
+      : [q] "=&d"(q), [t] "=&r"(t), [z] "=&r"(z)
+      : [s] "r"(s.raw));
   return Unit{q};
 }
 #else
-inline Unit to_unit(Real r) {
-  const int32_t rounded = r.raw + 0x80;
-  const int16_t q = (int16_t)(rounded >> 8);
-  const int8_t top = (int8_t)(rounded >> 24);
-  if (top == (q < 0 ? -1 : 0) && q != -32768) return Unit{q};
-  return Unit{(int16_t)(top < 0 ? -kUnitOne : kUnitOne)};
+inline Unit to_unit(Span s) {
+  const int64_t q = ((int64_t)s.raw + 32768) >> 16;
+  return Unit{(int16_t)(q > kUnitOne ? kUnitOne : q < -kUnitOne ? -kUnitOne : q)};
 }
 #endif
 

@@ -66,10 +66,11 @@ void check_products(vectors::Lcg& rng) {
     check("rr", k.mantissa, j.mantissa, p.mantissa, saturated ? 65535 : (int32_t)(m >> 16));
     check("rr scale", k.scale, j.scale, p.scale, saturated ? fx::kRecipMaxScale : scale);
     check("rr sign", k.negative, j.negative, p.negative, k.negative != j.negative);
-    // Real -> Unit, rounded, saturated at +-32767
-    const int32_t r = (int32_t)rng.next() >> (7 + (n & 3));
-    const int32_t rounded = (r + 0x80) >> 8;
-    check("to_unit", r, 0, fx::to_unit(fx::Real{r}).raw, rounded > 32767 ? 32767 : rounded < -32767 ? -32767 : rounded);
+    // Span -> Unit, rounded, saturated at +-32767
+    const int32_t span = (int32_t)rng.next() >> (n & 3);
+    wide = ((int64_t)span + 32768) >> 16;
+    const int32_t rounded = (int32_t)wide;
+    check("to_unit", span, 0, fx::to_unit(fx::Span{span}).raw, rounded > 32767 ? 32767 : rounded < -32767 ? -32767 : rounded);
   }
 }
 
