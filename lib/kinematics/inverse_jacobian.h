@@ -93,9 +93,7 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   static constexpr typename N::Recip inv_a2 = N::recip_constant(arm::a2);
   static constexpr typename N::Recip inv_a3 = N::recip_constant(arm::a3);
 
-  JacobianInverse<N> out;
-  out.factors = singular_factors<N>(t);
-  out.status = singular_status<N>(out.factors);
+  const SingularFactors<N> factors = singular_factors<N>(t);
 
   // the twist in the frame turned by q1 (N::dot(a, x, b, y) is a x + b y)
   const auto& v = twist.v_m_s;
@@ -110,7 +108,7 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   const auto c5d6 = t.c5 * d6;
   const auto s5d6 = t.s5 * d6;
   const auto m = N::dot(t.s234, wx, -t.c234, w.z);
-  const auto qd1 = (vy + m * c5d6) * N::damped_reciprocal(out.factors.r5, damp_r5);
+  const auto qd1 = (vy + m * c5d6) * N::damped_reciprocal(factors.r5, damp_r5);
 
   // 2. wrist: angular velocity less joint 1 (qd5 = wx s234 - wz c234 = m + qd1 c234)
   const auto wz = w.z - qd1;
@@ -127,13 +125,8 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   const auto qd2 = N::dot(t.s23, bz, -t.c23, bx) * (inv_s3 * inv_a2);
   const auto qd23 = N::dot(t.c2, bx, -t.s2, bz) * (inv_s3 * inv_a3);
 
-  out.qd_rad_s[0] = qd1;
-  out.qd_rad_s[1] = qd2;
-  out.qd_rad_s[2] = qd23 - qd2;
-  out.qd_rad_s[3] = sigma - qd23;
-  out.qd_rad_s[4] = qd5;
-  out.qd_rad_s[5] = qd6;
-  return out;
+  // built in place: a struct copy of the factors is a byte loop on the AVR
+  return JacobianInverse<N>{{qd1, qd2, qd23 - qd2, sigma - qd23, qd5, qd6}, factors, singular_status<N>(factors)};
 }
 
 // flatten: avr-gcc then inlines the trig set into the body before it splits structs into
