@@ -87,6 +87,7 @@ void check_tables(vectors::Lcg& rng) {
     const fx::SinCos sc = fx::sincos(a);
     check("sin", a.raw, 0, sc.s.raw, s);
     check("cos", a.raw, 0, sc.c.raw, c);
+    check("sin alone", a.raw, 0, fx::sin(a).raw, s);
   }
   for (uint16_t magnitude = 1; magnitude <= 32767; magnitude += (magnitude < 512 ? 1 : 5)) {
     uint16_t normalised = magnitude;
