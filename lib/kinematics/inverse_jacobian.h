@@ -93,7 +93,10 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   static constexpr typename N::Recip inv_a2 = N::recip_constant(arm::a2);
   static constexpr typename N::Recip inv_a3 = N::recip_constant(arm::a3);
 
+  // Results go into out as soon as they are known (fewer values kept aside), the factors
+  // member by member (a struct copy is a byte loop on the AVR).
   const SingularFactors<N> factors = singular_factors<N>(t);
+  JacobianInverse<N> out;
 
   // the twist in the frame turned by q1 (N::dot(a, x, b, y) is a x + b y)
   const auto& v = twist.v_m_s;
@@ -109,11 +112,13 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   const auto s5d6 = t.s5 * d6;
   const auto m = N::dot(t.s234, wx, -t.c234, w.z);
   const auto qd1 = (vy + m * c5d6) * N::damped_reciprocal(factors.r5, damp_r5);
+  out.qd_rad_s[0] = qd1;
 
   // 2. wrist: angular velocity less joint 1 (qd5 = wx s234 - wz c234 = m + qd1 c234)
   const auto wz = w.z - qd1;
   const auto qd6 = N::dot(t.c234, wx, t.s234, wz) * N::damped_reciprocal(t.c5, damp_c5);
-  const auto qd5 = m + qd1 * t.c234;
+  out.qd_rad_s[4] = m + qd1 * t.c234;
+  out.qd_rad_s[5] = qd6;
   const auto sigma = -wy - qd6 * t.s5;
 
   // 3. planar shoulder-elbow-pitch chain, with v5x and v5z written out:
@@ -125,8 +130,14 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   const auto qd2 = N::dot(t.s23, bz, -t.c23, bx) * (inv_s3 * inv_a2);
   const auto qd23 = N::dot(t.c2, bx, -t.s2, bz) * (inv_s3 * inv_a3);
 
-  // built in place: a struct copy of the factors is a byte loop on the AVR
-  return JacobianInverse<N>{{qd1, qd2, qd23 - qd2, sigma - qd23, qd5, qd6}, factors, singular_status<N>(factors)};
+  out.qd_rad_s[1] = qd2;
+  out.qd_rad_s[2] = qd23 - qd2;
+  out.qd_rad_s[3] = sigma - qd23;
+  out.factors.c5 = factors.c5;
+  out.factors.s3 = factors.s3;
+  out.factors.r5 = factors.r5;
+  out.status = singular_status<N>(factors);
+  return out;
 }
 
 // flatten: avr-gcc then inlines the trig set into the body before it splits structs into
