@@ -237,12 +237,17 @@ inline Recip operator*(Recip a, Recip b) {
       "rol   %B[m]\n\t"
       "lsr   %B[scale]\n\t"
       "ror   %A[scale]\n"
-      "1:"
-      : [m] "=&r"(m), [scale] "=&d"(scale), [t] "=&r"(t), [z] "=&r"(z)
+      "1:\n\t"
+      "cpi   %A[scale], 0x81\n\t"  // above kRecipMaxScale (128): saturated
+      "cpc   %B[scale], %[z]\n\t"
+      "brlo  2f\n\t"
+      "ldi   %A[m], 0xFF\n\t"
+      "ldi   %B[m], 0xFF\n\t"
+      "ldi   %A[scale], 0x80\n"
+      "2:"
+      : [m] "=&d"(m), [scale] "=&d"(scale), [t] "=&r"(t), [z] "=&r"(z)
       : [a] "r"(a.mantissa), [b] "r"(b.mantissa), [sa] "r"(a.scale), [sb] "r"(b.scale));
-  const bool negative = a.negative != b.negative;
-  if (scale > kRecipMaxScale) return Recip{65535, kRecipMaxScale, negative};
-  return Recip{m, (uint8_t)scale, negative};
+  return Recip{m, (uint8_t)scale, a.negative != b.negative};
 }
 #else
 inline Recip operator*(Recip a, Recip b) {
