@@ -92,6 +92,8 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   static constexpr typename N::Unit a4 = N::unit(arm::a4);
   static constexpr typename N::Recip inv_a2 = N::recip_constant(arm::a2);
   static constexpr typename N::Recip inv_a3 = N::recip_constant(arm::a3);
+  // a2 = a3 on this arm: then 1/(a2 s3) serves both qd2 and qd2 + qd3
+  static constexpr bool equal_links = arm::a2.num * arm::a3.den == arm::a3.num * arm::a2.den;
 
   // Results go into out as soon as they are known (fewer values kept aside), the factors
   // member by member (a struct copy is a byte loop on the AVR).
@@ -127,8 +129,10 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   const auto bx = N::dot(s5d6, w.z, t.s234, g) - vx;
   const auto bz = N::dot(s5d6, wx, t.c234, g) + v.z;
   const auto inv_s3 = N::damped_reciprocal(t.s3, damp_s3);
-  const auto qd2 = N::dot(t.s23, bz, -t.c23, bx) * (inv_s3 * inv_a2);
-  const auto qd23 = N::dot(t.c2, bx, -t.s2, bz) * (inv_s3 * inv_a3);
+  const auto inv_a2s3 = inv_s3 * inv_a2;
+  const auto inv_a3s3 = equal_links ? inv_a2s3 : inv_s3 * inv_a3;
+  const auto qd2 = N::dot(t.s23, bz, -t.c23, bx) * inv_a2s3;
+  const auto qd23 = N::dot(t.c2, bx, -t.s2, bz) * inv_a3s3;
 
   out.qd_rad_s[1] = qd2;
   out.qd_rad_s[2] = qd23 - qd2;
