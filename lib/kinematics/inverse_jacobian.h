@@ -111,7 +111,6 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   // 1. joint-5 origin velocity v5 = v - w x (d6 z6), with d6 z6 = (c234 c5d6, -s5d6, s234 c5d6);
   //    its y component is vy + c5d6 m with m = wx s234 - w.z c234
   const auto c5d6 = t.c5 * d6;
-  const auto s5d6 = t.s5 * d6;
   const auto m = N::dot(t.s234, wx, -t.c234, w.z);
   const auto qd1 = (vy + m * c5d6) * N::damped_reciprocal(factors.r5, damp_r5);
   out.qd_rad_s[0] = qd1;
@@ -125,6 +124,7 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
 
   // 3. planar shoulder-elbow-pitch chain, with v5x and v5z written out:
   //    bx = w.z s5d6 - vx + s234 g,  bz = v.z + wx s5d6 + c234 g,  g = wy c5d6 - sigma a4
+  const auto s5d6 = t.s5 * d6;
   const auto g = N::dot(c5d6, wy, -a4, sigma);
   const auto bx = N::dot(s5d6, w.z, t.s234, g) - vx;
   const auto bz = N::dot(s5d6, wx, t.c234, g) + v.z;
