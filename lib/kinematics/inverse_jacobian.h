@@ -117,8 +117,8 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
 
   // 2. wrist: angular velocity less joint 1 (qd5 = wx s234 - wz c234 = m + qd1 c234)
   const auto wz = w.z - qd1;
-  const auto qd6 = N::dot(t.c234, wx, t.s234, wz) * N::damped_reciprocal(t.c5, damp_c5);
   out.qd_rad_s[4] = m + qd1 * t.c234;
+  const auto qd6 = N::dot(t.c234, wx, t.s234, wz) * N::damped_reciprocal(t.c5, damp_c5);
   out.qd_rad_s[5] = qd6;
   const auto sigma = -wy - qd6 * t.s5;
 
