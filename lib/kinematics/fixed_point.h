@@ -330,10 +330,7 @@ inline Real dot(Unit a, Real x, Unit b, Real y) { return Real{dot_q15(a.raw, x.r
 inline Real operator*(Unit u, Real r) { return Real{mul_q15(r.raw, u.raw)}; }
 inline Real operator*(Real r, Unit u) { return u * r; }
 
-inline Real to_real(Length l) { return Real{(int32_t)l.raw << 7}; }
 inline Real to_real(Unit u) { return Real{(int32_t)u.raw << 8}; }
-inline Real operator+(Real a, Length b) { return a + to_real(b); }
-inline Real operator+(Length a, Real b) { return to_real(a) + b; }
 
 // --- Span: Q31 metres in (-1, 1), a Unit * Length product (Q15 * UQ16, exact) or a sum of
 // such products and Lengths along one link chain; the arm's chains stay below 1 m
@@ -342,7 +339,6 @@ struct Span {
   int32_t raw;
 };
 inline Span operator*(Unit u, Length l) { return Span{mul_us(l.raw, u.raw)}; }
-inline Span operator*(Length l, Unit u) { return u * l; }
 inline Span operator+(Span a, Span b) { return Span{a.raw + b.raw}; }
 inline Span operator+(Length a, Span b) { return Span{(int32_t)((uint32_t)a.raw << 15) + b.raw}; }
 inline Real to_real(Span s) { return Real{s.raw >> 8}; }

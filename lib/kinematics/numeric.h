@@ -74,7 +74,7 @@ struct Fixed {
 
   static SinCos sincos(Angle a) { return fx::sincos(a); }
   static Unit sin(Angle a) { return fx::sin(a); }
-  static Unit to_unit(fx::Span s) { return fx::to_unit(s); }
+  static Unit to_unit(fx::Span s) { return fx::to_unit(s); }  // a link chain's sum, rounded
   static Real to_real(Unit u) { return fx::to_real(u); }
   static Real dot(Unit a, Real x, Unit b, Real y) { return fx::dot(a, x, b, y); }  // one fused product
   static Recip damped_reciprocal(Unit x, Band b) { return fx::damped_reciprocal(x, b); }

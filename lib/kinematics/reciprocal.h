@@ -198,7 +198,8 @@ inline Real operator*(Real x, Recip k) {
 #else
 inline Real operator*(Real x, Recip k) {
   const int64_t q = (product_without_low_bytes(x.raw, k.mantissa) >> 16) * k.scale;
-  const int32_t limited = (int32_t)(q > kRecipProductLimit ? kRecipProductLimit : q < -kRecipProductLimit ? -kRecipProductLimit : q);
+  const int64_t limit = kRecipProductLimit;
+  const int32_t limited = (int32_t)(q > limit ? limit : q < -limit ? -limit : q);
   return Real{k.negative ? -limited : limited};
 }
 #endif
@@ -267,7 +268,8 @@ inline Recip operator*(Recip a, Recip b) {
 // [2^(s-1), 2^s) and the mantissa is (den/num) / 2^s in UQ16.
 constexpr uint8_t recip_shift_for(int64_t den, int64_t num) { return den < num ? 0 : 1 + recip_shift_for(den, num * 2); }
 constexpr Recip recip_from_mantissa(int64_t mantissa, uint8_t shift) {
-  return mantissa >= 65536 ? Recip{32768, (uint8_t)(1 << (shift + 1)), false} : Recip{(uint16_t)mantissa, (uint8_t)(1 << shift), false};
+  return mantissa >= 65536 ? Recip{32768, (uint8_t)(1 << (shift + 1)), false}
+                           : Recip{(uint16_t)mantissa, (uint8_t)(1 << shift), false};
 }
 constexpr Recip recip_constant(Ratio c) {
   return recip_shift_for(c.den, c.num) > 7

@@ -42,7 +42,8 @@ void check_products(vectors::Lcg& rng) {
     const int16_t c = random_unit(rng), d = random_unit(rng);
     const uint16_t cu = (uint16_t)(rng.next() >> 16);
     check("q15", x, c, fx::mul_q15(x, c), (int32_t)(without_low_bytes(x, c) >> 15));
-    check("dot", x, y, fx::dot_q15(c, x, d, y), (int32_t)((without_low_bytes(x, c) + without_low_bytes(y, d)) >> 15));
+    const int32_t want_dot = (int32_t)((without_low_bytes(x, c) + without_low_bytes(y, d)) >> 15);
+    check("dot", x, y, fx::dot_q15(c, x, d, y), want_dot);
     const fx::Recip k{cu, (uint8_t)(1 << (n & 7)), (n & 8) != 0};
     wide = (without_low_bytes(x, cu) >> 16) * k.scale;
     const int32_t limited = wide > fx::kRecipProductLimit    ? fx::kRecipProductLimit
@@ -70,7 +71,8 @@ void check_products(vectors::Lcg& rng) {
     const int32_t span = (int32_t)rng.next() >> (n & 3);
     wide = ((int64_t)span + 32768) >> 16;
     const int32_t rounded = (int32_t)wide;
-    check("to_unit", span, 0, fx::to_unit(fx::Span{span}).raw, rounded > 32767 ? 32767 : rounded < -32767 ? -32767 : rounded);
+    const int32_t want_unit = rounded > 32767 ? 32767 : rounded < -32767 ? -32767 : rounded;
+    check("to_unit", span, 0, fx::to_unit(fx::Span{span}).raw, want_unit);
   }
 }
 
