@@ -253,7 +253,8 @@ inline Real operator-(Real a) { return Real{-a.raw}; }
   WMRA_MUL_ASM(x, D, c, A) WMRA_ADD_AT3_ASM       \
   WMRA_MUL_ASM(x, C, c, B) WMRA_ADD_AT3_ASM
 // t:r = X A + Y B (bytes 1-5), column by column: each column's products go into its byte
-// and the next, and their carries into the byte above, which starts at zero
+// and the next, and their carries into the byte above, which starts at zero (columns 3 and 4
+// are the ADD_AT3 and ADD_AT4 steps, whose carries reach the top byte)
 #define WMRA_COLUMN_ASM(lo, hi, carry) \
   "add   " lo ", r0\n\t"               \
   "adc   " hi ", r1\n\t"               \

@@ -281,7 +281,7 @@ constexpr Recip recip_constant(Ratio c) {
 // The band |x| < eps of a damped reciprocal. Inside it |x|/eps^2 < 1/eps gets the fixed scale
 // 2^s >= 1/eps, so a = |x| in Q15 is below 2^(16 - s), and the mantissa
 // a / eps^2 / 2^s in UQ16 is (a 2^s) slope / 2^15 with slope = 2^(46 - 2s) / eps^2 in Q15
-// units, which lies in (2^14, 2^16].
+// units, which lies in (2^14, 2^16] (2^16 itself is kept as 65535).
 struct DampedBand {
   Unit eps;
   uint16_t slope;
