@@ -53,6 +53,7 @@ constexpr Ratio kIkDegenerate{1, 50000};
 // The wrist reaches at most this far from the base axis, so R5 always fits a Unit.
 constexpr double max_r5_m = a1_m + a2_m + a3_m + a4_m;
 static_assert(max_r5_m < 1.0, "R5 is carried as a Q15 Unit and must stay below 1 m");
+static_assert(d1_m + a2_m + a3_m < 1.0, "the height chain d1 + s2 a2 + s23 a3 is summed as a Q31 Span");
 static_assert(a1_m < 1 && a2_m < 1 && a3_m < 1 && a4_m < 1 && d1_m < 1 && d6_m < 1,
               "link constants are UQ16 Lengths and must stay below 1 m");
 static_assert(d1_m + a2_m + a3_m + a4_m + d6_m < 2.0, "positions must stay far inside the Real range");

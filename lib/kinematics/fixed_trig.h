@@ -83,52 +83,96 @@ inline int16_t interpolate_down(const int16_t* t, uint8_t i, uint8_t f) {
   const uint8_t step = (uint8_t)(hi - flash_read_i16(t + 255 - i));
   return (int16_t)(hi - (((uint16_t)step * f + 128u) >> 8));
 }
-// sin and cos of the angle within its quadrant. On the AVR both interpolations are one asm
-// block: eight LPM reads and two MULs, with (x + 128) >> 8 as the high byte plus bit 7 of
-// the low byte. Only the low bytes of the neighbours are needed for the step (<= 201).
+// sin and cos of an angle: the table interpolated up (sine) and down (cosine) at the angle
+// within its quadrant, then swapped and negated by the quadrant.
 #if defined(__AVR__)
-inline SinCos sincos_quadrant(uint8_t i, uint8_t f) {
-  const int16_t* up = sin_table() + i;
-  const int16_t* down = sin_table() + 255 - i;
+// Asm blocks with three LPM reads and one MUL per interpolation, (x + 128) >> 8 as the high
+// byte plus bit 7 of the low byte; only the low bytes of the neighbours are needed for the
+// step (<= 201). Byte 1 of the angle is the table index i, byte 0 the fraction, bits 16-17
+// the quadrant. %[zero] is cleared first; Z points at the table, %[down] at entry 255.
+#define WMRA_TABLE_UP_ASM(out)        /* out = t[i] interpolated up */ \
+  "add   r30, %B[a]\n\t"                                               \
+  "adc   r31, %[zero]\n\t"                                             \
+  "add   r30, %B[a]\n\t"                                               \
+  "adc   r31, %[zero]\n\t"                                             \
+  "lpm   %A[" #out "], Z+\n\t"                                         \
+  "lpm   %B[" #out "], Z+\n\t"                                         \
+  "lpm   %[step], Z\n\t" /* low byte of t[i + 1] */                   \
+  "sub   %[step], %A[" #out "]\n\t"                                    \
+  "mul   %[step], %A[a]\n\t"                                           \
+  "lsl   r0\n\t"                                                       \
+  "adc   r1, %[zero]\n\t"                                              \
+  "add   %A[" #out "], r1\n\t"                                         \
+  "adc   %B[" #out "], %[zero]\n\t"
+#define WMRA_TABLE_DOWN_ASM(out)      /* out = t[256 - i] interpolated down */ \
+  "sub   %A[down], %B[a]\n\t"                                                  \
+  "sbc   %B[down], %[zero]\n\t"                                                \
+  "sub   %A[down], %B[a]\n\t"                                                  \
+  "sbc   %B[down], %[zero]\n\t"                                                \
+  "movw  r30, %[down]\n\t"                                                     \
+  "lpm   %[step], Z\n\t" /* low byte of t[255 - i] */                         \
+  "adiw  r30, 2\n\t"                                                           \
+  "lpm   %A[" #out "], Z+\n\t"                                                 \
+  "lpm   %B[" #out "], Z\n\t"                                                  \
+  "neg   %[step]\n\t"                                                          \
+  "add   %[step], %A[" #out "]\n\t"                                            \
+  "mul   %[step], %A[a]\n\t"                                                   \
+  "lsl   r0\n\t"                                                               \
+  "adc   r1, %[zero]\n\t"                                                      \
+  "sub   %A[" #out "], r1\n\t"                                                 \
+  "sbc   %B[" #out "], %[zero]\n\t"
+#define WMRA_NEGATE_ASM(x)   \
+  "neg   %B[" #x "]\n\t"     \
+  "neg   %A[" #x "]\n\t"     \
+  "sbc   %B[" #x "], %[zero]\n\t"
+inline SinCos sincos(Angle a) {
+  const int16_t* up = sin_table();
+  const int16_t* down = sin_table() + 255;
   int16_t s, c;
-  uint8_t a, b, zero;
-  asm("clr   %[zero]\n\t"
-      "lpm   %A[s], Z+\n\t"       // t[i]
-      "lpm   %B[s], Z+\n\t"
-      "lpm   %[a], Z\n\t"         // low byte of t[i + 1]
-      "sub   %[a], %A[s]\n\t"
-      "mul   %[a], %[f]\n\t"
-      "lsl   r0\n\t"
-      "adc   r1, %[zero]\n\t"
-      "add   %A[s], r1\n\t"
-      "adc   %B[s], %[zero]\n\t"
-      "movw  r30, %[down]\n\t"
-      "lpm   %[b], Z\n\t"         // low byte of t[255 - i]
-      "adiw  r30, 2\n\t"
-      "lpm   %A[c], Z+\n\t"       // t[256 - i]
-      "lpm   %B[c], Z\n\t"
-      "mov   %[a], %A[c]\n\t"
-      "sub   %[a], %[b]\n\t"
-      "mul   %[a], %[f]\n\t"
-      "lsl   r0\n\t"
-      "adc   r1, %[zero]\n\t"
-      "sub   %A[c], r1\n\t"
-      "sbc   %B[c], %[zero]\n\t"
-      "clr   __zero_reg__"
-      : [s] "=&r"(s), [c] "=&r"(c), [a] "=&r"(a), [b] "=&r"(b), [zero] "=&r"(zero), "+z"(up)
-      : [down] "r"(down), [f] "r"(f));
+  uint8_t step, zero;
+  asm("clr   %[zero]\n\t" WMRA_TABLE_UP_ASM(s) WMRA_TABLE_DOWN_ASM(c) "clr   __zero_reg__\n\t"
+      "sbrs  %C[a], 0\n\t"  // quadrants 1, 3: (s, c) = (c, -s)
+      "rjmp  1f\n\t"
+      "movw  %[down], %[c]\n\t"
+      "movw  %[c], %[s]\n\t"
+      "movw  %[s], %[down]\n\t" WMRA_NEGATE_ASM(c)
+      "1:\n\t"
+      "sbrs  %C[a], 1\n\t"  // quadrants 2, 3: (s, c) = (-s, -c)
+      "rjmp  2f\n\t" WMRA_NEGATE_ASM(s) WMRA_NEGATE_ASM(c)
+      "2:"
+      : [s] "=&r"(s), [c] "=&r"(c), [step] "=&r"(step), [zero] "=&r"(zero), "+z"(up), [down] "+r"(down)
+      : [a] "r"(a.raw));
   return SinCos{Unit{s}, Unit{c}};
 }
-#else
-inline SinCos sincos_quadrant(uint8_t i, uint8_t f) {
-  return SinCos{Unit{interpolate_up(sin_table(), i, f)}, Unit{interpolate_down(sin_table(), i, f)}};
+// the sine alone: interpolated up in quadrants 0, 2 and down in 1, 3, negated in 2, 3
+inline Unit sin(Angle a) {
+  const int16_t* up = sin_table();
+  const int16_t* down = sin_table() + 255;
+  int16_t s;
+  uint8_t step, zero;
+  asm("clr   %[zero]\n\t"
+      "sbrc  %C[a], 0\n\t"
+      "rjmp  1f\n\t" WMRA_TABLE_UP_ASM(s)
+      "rjmp  2f\n"
+      "1:\n\t" WMRA_TABLE_DOWN_ASM(s)
+      "2:\n\t"
+      "clr   __zero_reg__\n\t"
+      "sbrs  %C[a], 1\n\t"
+      "rjmp  3f\n\t" WMRA_NEGATE_ASM(s)
+      "3:"
+      : [s] "=&r"(s), [step] "=&r"(step), [zero] "=&r"(zero), "+z"(up), [down] "+r"(down)
+      : [a] "r"(a.raw));
+  return Unit{s};
 }
-#endif
-
+#undef WMRA_TABLE_UP_ASM
+#undef WMRA_TABLE_DOWN_ASM
+#undef WMRA_NEGATE_ASM
+#else
 inline SinCos sincos(Angle a) {
-  const SinCos q = sincos_quadrant((uint8_t)(a.raw >> 8), (uint8_t)a.raw);
-  const int16_t s0 = q.s.raw;
-  const int16_t c0 = q.c.raw;
+  const uint8_t i = (uint8_t)(a.raw >> 8);
+  const uint8_t f = (uint8_t)a.raw;
+  const int16_t s0 = interpolate_up(sin_table(), i, f);
+  const int16_t c0 = interpolate_down(sin_table(), i, f);
   switch ((uint8_t)(a.raw >> 16) & 3u) {
     case 0: return SinCos{Unit{s0}, Unit{c0}};
     case 1: return SinCos{Unit{c0}, Unit{(int16_t)-s0}};
@@ -147,6 +191,7 @@ inline Unit sin(Angle a) {
     default: return Unit{(int16_t)-interpolate_down(sin_table(), i, f)};
   }
 }
+#endif
 
 // atan(t) / (pi/4) * 2^15 for t = ratio / 2^16 in [0, 1]: an angle in [0, 2^15] counts.
 inline uint16_t atan_octant(uint16_t ratio, bool one) {
@@ -213,13 +258,15 @@ inline uint16_t isqrt32_rounded(uint32_t v) {
 
 // sqrt(a^2 + b^2) of two Units, saturated at 32767: the length of a vector of direction cosines
 inline Unit hypot(Unit a, Unit b) {
-  const uint16_t r = isqrt32_rounded((uint32_t)mul_ss(a.raw, a.raw) + (uint32_t)mul_ss(b.raw, b.raw));
+  const uint16_t ma = (uint16_t)(a.raw < 0 ? -a.raw : a.raw), mb = (uint16_t)(b.raw < 0 ? -b.raw : b.raw);
+  const uint16_t r = isqrt32_rounded(mul_uu(ma, ma) + mul_uu(mb, mb));
   return Unit{(int16_t)(r > kUnitOne ? kUnitOne : r)};
 }
 
 // sqrt(1 - c^2) in Q15: a sine from its cosine, >= 0
 inline Unit sqrt_one_minus_square(Unit c) {
-  const uint16_t r = isqrt32_rounded(((uint32_t)1 << 30) - (uint32_t)mul_ss(c.raw, c.raw));
+  const uint16_t mc = (uint16_t)(c.raw < 0 ? -c.raw : c.raw);
+  const uint16_t r = isqrt32_rounded(((uint32_t)1 << 30) - mul_uu(mc, mc));
   return Unit{(int16_t)(r > kUnitOne ? kUnitOne : r)};
 }
 

@@ -40,13 +40,11 @@ struct ArmTrig {
   typename N::Unit c1, s1, c2, s2, s3, c23, s23, c234, s234, c5, s5, c6, s6;
 };
 
-// the sines and cosines that every set has
+// the sines and cosines that every set has; joint 1 last, since J^-1 uses it first (avr-gcc
+// then keeps it in registers)
 template <class N, class Trig>
 void fill_chain_trig(const JointAngles<N>& j, Trig& t) {
   const auto q23 = j.q[1] + j.q[2];
-  const auto sc1 = N::sincos(j.q[0]);
-  t.c1 = sc1.c;
-  t.s1 = sc1.s;
   const auto sc2 = N::sincos(j.q[1]);
   t.c2 = sc2.c;
   t.s2 = sc2.s;
@@ -59,6 +57,9 @@ void fill_chain_trig(const JointAngles<N>& j, Trig& t) {
   const auto sc5 = N::sincos(j.q[4]);
   t.c5 = sc5.c;
   t.s5 = sc5.s;
+  const auto sc1 = N::sincos(j.q[0]);
+  t.c1 = sc1.c;
+  t.s1 = sc1.s;
 }
 template <class N, class Trig>
 void fill_roll_trig(const JointAngles<N>& j, Trig& t) {
@@ -77,8 +78,8 @@ PoseTrig<N> pose_trig(const JointAngles<N>& j) {
 template <class N>
 JacobianTrig<N> jacobian_trig(const JointAngles<N>& j) {
   JacobianTrig<N> t;
-  fill_chain_trig<N>(j, t);
   t.s3 = N::sin(j.q[2]);
+  fill_chain_trig<N>(j, t);
   return t;
 }
 template <class N>

@@ -92,52 +92,62 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   static constexpr typename N::Unit a4 = N::unit(arm::a4);
   static constexpr typename N::Recip inv_a2 = N::recip_constant(arm::a2);
   static constexpr typename N::Recip inv_a3 = N::recip_constant(arm::a3);
+  // a2 = a3 on this arm: then 1/(a2 s3) serves both qd2 and qd2 + qd3
+  static constexpr bool equal_links = arm::a2.num * arm::a3.den == arm::a3.num * arm::a2.den;
 
+  // Results go into out as soon as they are known (fewer values kept aside), the factors
+  // member by member (a struct copy is a byte loop on the AVR).
+  const SingularFactors<N> factors = singular_factors<N>(t);
   JacobianInverse<N> out;
-  out.factors = singular_factors<N>(t);
-  out.status = singular_status<N>(out.factors);
 
-  // the twist in the frame turned by q1
+  // the twist in the frame turned by q1 (N::dot(a, x, b, y) is a x + b y)
   const auto& v = twist.v_m_s;
   const auto& w = twist.w_rad_s;
-  const auto vx = t.c1 * v.x + t.s1 * v.y;
-  const auto vy = t.c1 * v.y - t.s1 * v.x;
-  const auto wx = t.c1 * w.x + t.s1 * w.y;
-  const auto wy = t.c1 * w.y - t.s1 * w.x;
+  const auto vx = N::dot(t.c1, v.x, t.s1, v.y);
+  const auto vy = N::dot(t.c1, v.y, -t.s1, v.x);
+  const auto wx = N::dot(t.c1, w.x, t.s1, w.y);
+  const auto wy = N::dot(t.c1, w.y, -t.s1, w.x);
 
-  // 1. joint-5 origin velocity v5 = v - w x (d6 z6), with d6 z6 = d6 (c234 c5, -s5, s234 c5)
-  const auto zx = (t.c234 * t.c5) * d6;
-  const auto zy = -(t.s5 * d6);
-  const auto zz = (t.s234 * t.c5) * d6;
-  const auto v5x = vx - (wy * zz - w.z * zy);
-  const auto v5y = vy - (w.z * zx - wx * zz);
-  const auto v5z = v.z - (wx * zy - wy * zx);
-  const auto qd1 = v5y * N::damped_reciprocal(out.factors.r5, damp_r5);
+  // 1. joint-5 origin velocity v5 = v - w x (d6 z6), with d6 z6 = (c234 c5d6, -s5d6, s234 c5d6);
+  //    its y component is vy + c5d6 m with m = wx s234 - w.z c234
+  const auto c5d6 = t.c5 * d6;
+  const auto m = N::dot(t.s234, wx, -t.c234, w.z);
+  const auto qd1 = (vy + m * c5d6) * N::damped_reciprocal(factors.r5, damp_r5);
+  out.qd_rad_s[0] = qd1;
 
-  // 2. wrist: angular velocity less joint 1
+  // 2. wrist: angular velocity less joint 1 (qd5 = wx s234 - wz c234 = m + qd1 c234)
   const auto wz = w.z - qd1;
-  const auto qd6 = (wx * t.c234 + wz * t.s234) * N::damped_reciprocal(t.c5, damp_c5);
-  const auto qd5 = wx * t.s234 - wz * t.c234;
+  out.qd_rad_s[4] = m + qd1 * t.c234;
+  const auto qd6 = N::dot(t.c234, wx, t.s234, wz) * N::damped_reciprocal(t.c5, damp_c5);
+  out.qd_rad_s[5] = qd6;
   const auto sigma = -wy - qd6 * t.s5;
 
-  // 3. planar shoulder-elbow-pitch chain
-  const auto bx = -v5x - sigma * (t.s234 * a4);
-  const auto bz = v5z - sigma * (t.c234 * a4);
+  // 3. planar shoulder-elbow-pitch chain, with v5x and v5z written out:
+  //    bx = w.z s5d6 - vx + s234 g,  bz = v.z + wx s5d6 + c234 g,  g = wy c5d6 - sigma a4
+  const auto s5d6 = t.s5 * d6;
+  const auto g = N::dot(c5d6, wy, -a4, sigma);
+  const auto bx = N::dot(s5d6, w.z, t.s234, g) - vx;
+  const auto bz = N::dot(s5d6, wx, t.c234, g) + v.z;
   const auto inv_s3 = N::damped_reciprocal(t.s3, damp_s3);
-  const auto qd2 = (bz * t.s23 - bx * t.c23) * (inv_s3 * inv_a2);
-  const auto qd23 = (bx * t.c2 - bz * t.s2) * (inv_s3 * inv_a3);
+  const auto inv_a2s3 = inv_s3 * inv_a2;
+  const auto inv_a3s3 = equal_links ? inv_a2s3 : inv_s3 * inv_a3;
+  const auto qd2 = N::dot(t.s23, bz, -t.c23, bx) * inv_a2s3;
+  const auto qd23 = N::dot(t.c2, bx, -t.s2, bz) * inv_a3s3;
 
-  out.qd_rad_s[0] = qd1;
   out.qd_rad_s[1] = qd2;
   out.qd_rad_s[2] = qd23 - qd2;
   out.qd_rad_s[3] = sigma - qd23;
-  out.qd_rad_s[4] = qd5;
-  out.qd_rad_s[5] = qd6;
+  out.factors.c5 = factors.c5;
+  out.factors.s3 = factors.s3;
+  out.factors.r5 = factors.r5;
+  out.status = singular_status<N>(factors);
   return out;
 }
 
+// flatten: avr-gcc then inlines the trig set into the body before it splits structs into
+// registers, which saves about 250 cycles over an inlined but separately optimised trig set.
 template <class N>
-JacobianInverse<N> inverse_jacobian(const JointAngles<N>& q, const Twist<N>& twist) {
+__attribute__((flatten)) JacobianInverse<N> inverse_jacobian(const JointAngles<N>& q, const Twist<N>& twist) {
   return inverse_jacobian<N>(jacobian_trig<N>(q), twist);
 }
 

@@ -93,23 +93,22 @@ ElbowCosine<Floating<T>> elbow_cosine(Floating<T>, T x, T y) {
 inline int32_t square_q30(fx::Real x) {
   const int16_t xh = (int16_t)((x.raw + 0x80) >> 8);
   const int16_t xl2 = (int16_t)(2 * (x.raw - ((int32_t)xh << 8)));  // 2 xl in Q23, |.| <= 256
-  return fx::mul_ss(xh, xh) + (fx::mul_ss(xh, xl2) >> 8);
+  return (int32_t)xh * xh + (((int32_t)xh * xl2) >> 8);
 }
 
 inline ElbowCosine<Fixed> elbow_cosine(Fixed, fx::Real x, fx::Real y) {
   static constexpr Ratio kSides = arm::a2 * arm::a2 + arm::a3 * arm::a3;
   static constexpr int32_t kSidesQ30 = (int32_t)div_round(kSides.num << 30, kSides.den);
   static constexpr fx::Recip kInvTwoA2A3 = fx::recip_constant(Ratio{2, 1} * arm::a2 * arm::a3);
-  static_assert(kInvTwoA2A3.shift < 15, "c3 = diff * mantissa * 2^shift / 2^31 needs shift < 15");
   static constexpr int32_t kOneMetre = (int32_t)1 << 23;
   if (x.raw >= kOneMetre - 0x80 || x.raw <= -kOneMetre || y.raw >= kOneMetre - 0x80 || y.raw <= -kOneMetre) {
     return {false, fx::Unit{0}};
   }
-  const int32_t diff = square_q30(x) + square_q30(y) - kSidesQ30;
-  const int32_t c3 = (fx::mul_hi_32xu16(diff, kInvTwoA2A3.mantissa) + ((int32_t)1 << (14 - kInvTwoA2A3.shift))) >>
-                     (15 - kInvTwoA2A3.shift);
-  const bool reachable = c3 >= -32768 && c3 <= 32768;
-  return {reachable, fx::Unit{(int16_t)(c3 > fx::kUnitOne ? fx::kUnitOne : c3 < -fx::kUnitOne ? -fx::kUnitOne : c3)}};
+  // (x^2 + y^2 - a2^2 - a3^2) in Q23, at most 2 in magnitude, times 1/(2 a2 a3) = 4.08
+  const fx::Real diff{(square_q30(x) + square_q30(y) - kSidesQ30) >> 7};
+  const fx::Real c3 = diff * kInvTwoA2A3;
+  const bool reachable = c3.raw >= -kOneMetre && c3.raw <= kOneMetre;
+  return {reachable, fx::to_unit(c3)};
 }
 
 template <class N>
@@ -153,14 +152,14 @@ IkSolutions<N> inverse_kinematics(const Pose<N>& target) {
       const bool flip6 = b1 != b5;  // s6, c6 and cS change sign; sS with c5 alone
       const Angle q6 = flipped<N>(q6_first, flip6, flip6);
       const Angle sigma = flipped<N>(sigma_first, b5, flip6);
-      const auto x = (b1 ? -reach : reach) - ((flip6 ? -cs_a4 : cs_a4) + K::a1);
-      const auto y = p5z - ((b5 ? -ss_a4 : ss_a4) + K::d1);
+      const auto x = (b1 ? -reach : reach) - (K::a1 + (flip6 ? -cs_a4 : cs_a4));
+      const auto y = p5z - (K::d1 + (b5 ? -ss_a4 : ss_a4));
       const auto elbow = elbow_cosine(N{}, x, y);
       if (!elbow.reachable) continue;
       const auto s3_abs = N::sqrt_one_minus_square(elbow.c3);
       const Angle q3_first = N::atan2(s3_abs, elbow.c3);
       const Angle shoulder = N::atan2(y, x);
-      const Angle beta_first = N::atan2(s3_abs * K::a3, elbow.c3 * K::a3 + K::a2);
+      const Angle beta_first = N::atan2(s3_abs * K::a3, K::a2 + elbow.c3 * K::a3);
       for (uint8_t b3 = 0; b3 < 2; ++b3) {
         const Angle q3 = b3 ? -q3_first : q3_first;
         const Angle q2 = N::wrap(shoulder - (b3 ? -beta_first : beta_first));

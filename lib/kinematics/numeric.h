@@ -66,6 +66,8 @@ struct Floating {
   static Unit to_unit(Real r) { return r; }
   static Real to_real(Unit u) { return u; }
   static T abs(T x) { return x < 0 ? -x : x; }
+  // a x + b y (Fixed sums the two products before its one rounding)
+  static T dot(T a, T x, T b, T y) { return a * x + b * y; }
   // 1/x outside the band, x/eps^2 inside it (see fx::damped_reciprocal)
   static Recip damped_reciprocal(Unit x, Band b) { return abs(x) >= b.eps ? (T)1 / x : x / (b.eps * b.eps); }
   static bool inside(Unit x, Band b) { return abs(x) < b.eps; }
@@ -78,19 +80,14 @@ struct Fixed {
   using Real = fx::Real;
   using Recip = fx::Recip;
   using SinCos = fx::SinCos;
-  struct Band {
-    Unit eps;
-    Recip inv_eps2;
-  };
+  using Band = fx::DampedBand;
 
   static constexpr Unit unit(Ratio x) { return fx::unit(x); }
   static constexpr Length length(Ratio metres) { return fx::length(metres); }
   static constexpr Real real(Ratio x) { return fx::real(x); }
   static constexpr Recip recip_constant(Ratio c) { return fx::recip_constant(c); }
   // 1/eps^2 from the eps that the comparison uses, so the damped branch meets 1/x at the edge
-  static constexpr Band band(Ratio eps) {
-    return Band{fx::unit(eps), fx::recip_constant(Ratio{(int64_t)fx::unit(eps).raw * fx::unit(eps).raw, 32768ll * 32768})};
-  }
+  static constexpr Band band(Ratio eps) { return fx::damped_band(fx::unit(eps)); }
 
   static constexpr Angle angle_deg(Ratio degrees) { return fx::angle_deg(degrees); }
   static constexpr Angle half_turn() { return Angle{fx::kAngleTurn / 2}; }
@@ -100,13 +97,16 @@ struct Fixed {
   static Unit sin(Angle a) { return fx::sin(a); }
   static Angle atan2(Unit y, Unit x) { return fx::atan2(y.raw, x.raw); }
   static Angle atan2(Real y, Real x) { return fx::atan2(y.raw, x.raw); }
+  static Angle atan2(fx::Span y, fx::Span x) { return fx::atan2(y.raw, x.raw); }
   static Angle wrap(Angle a) { return fx::wrap(a); }
   static Angle abs(Angle a) { return Angle{a.raw < 0 ? -a.raw : a.raw}; }
   static Unit hypot(Unit a, Unit b) { return fx::hypot(a, b); }
   static Unit sqrt_one_minus_square(Unit c) { return fx::sqrt_one_minus_square(c); }
   static Unit to_unit(Real r) { return fx::to_unit(r); }
+  static Unit to_unit(fx::Span s) { return fx::to_unit(s); }  // a link chain's sum, rounded
   static Real to_real(Unit u) { return fx::to_real(u); }
-  static Recip damped_reciprocal(Unit x, Band b) { return fx::damped_reciprocal(x, b.eps, b.inv_eps2); }
+  static Real dot(Unit a, Real x, Unit b, Real y) { return fx::dot(a, x, b, y); }  // one fused product
+  static Recip damped_reciprocal(Unit x, Band b) { return fx::damped_reciprocal(x, b); }
   static bool inside(Unit x, Band b) { return (x.raw < 0 ? -x.raw : x.raw) < b.eps.raw; }
 };
 

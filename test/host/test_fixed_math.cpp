@@ -9,6 +9,10 @@
 
 using namespace wmra::fx;
 
+namespace {
+double value(Recip k) { return (k.negative ? -1 : 1) * k.mantissa / 65536.0 * k.scale; }
+}  // namespace
+
 TEST(FixedTrig, SinCosOverEveryAngleOfTheCircle) {
   double worst = 0;
   for (int32_t raw = 0; raw < kAngleTurn; ++raw) {
@@ -39,20 +43,21 @@ TEST(FixedReciprocal, TableEntriesAreRoundedHalfReciprocals) {
 
 TEST(FixedReciprocal, ProductOfReciprocals) {
   const Recip a = recip_constant(wmra::Ratio{350, 1000}), b = reciprocal(Unit{-12345});
-  const Recip p = a * b;
-  const double value = (p.negative ? -1 : 1) * p.mantissa / 65536.0 * std::pow(2.0, p.shift);
-  EXPECT_NEAR(value, 1 / 0.35 * (32768.0 / -12345), 1e-4 * std::abs(value));
+  EXPECT_NEAR(value(a * b), 1 / 0.35 * (32768.0 / -12345), 1e-4 * std::abs(value(a * b)));
+  const Recip big = recip_constant(wmra::Ratio{1, 64});
+  EXPECT_NEAR(value(big * recip_constant(wmra::Ratio{2, 1})), 32.0, 1e-4);
+  EXPECT_EQ(value(big * big), value(Recip{65535, kRecipMaxScale, false}));  // saturated
 }
 
-TEST(FixedReciprocal, ConstantsAreExact) {
-  for (const wmra::Ratio c : {wmra::Ratio{350, 1000}, wmra::Ratio{3, 1}, wmra::Ratio{1, 400}, wmra::Ratio{1, 1}}) {
+TEST(FixedReciprocal, ConstantsAreRounded) {
+  for (const wmra::Ratio c : {wmra::Ratio{350, 1000}, wmra::Ratio{3, 1}, wmra::Ratio{1, 100}, wmra::Ratio{1, 1}}) {
     const Recip k = recip_constant(c);
-    const double value = k.mantissa / 65536.0 * std::pow(2.0, k.shift);
     if (1.0 / wmra::to_double(c) >= 0.5) {
-      EXPECT_GE(k.mantissa, 32768);  // smaller values keep shift 0
+      EXPECT_GE(k.mantissa, 32768);  // smaller values keep scale 1
     }
-    EXPECT_NEAR(value * wmra::to_double(c), 1.0, 1.0 / 32768);
+    EXPECT_NEAR(value(k) * wmra::to_double(c), 1.0, 1.0 / 32768);
   }
+  EXPECT_EQ(value(recip_constant(wmra::Ratio{1, 400})), value(Recip{65535, kRecipMaxScale, false}));
 }
 
 TEST(FixedTrig, AnglesWrapAcrossTurns) {
@@ -85,44 +90,55 @@ TEST(FixedReciprocal, EveryUnitValue) {
   for (int32_t raw = -32767; raw <= 32767; ++raw) {
     if (raw == 0) continue;
     const Recip k = reciprocal(Unit{(int16_t)raw});
-    const double value = (k.negative ? -1 : 1) * k.mantissa / 65536.0 * std::pow(2.0, k.shift);
-    const double expected = 32768.0 / raw;
-    worst = std::max(worst, std::abs(value / expected - 1));
+    if (std::abs(raw) < 256) {  // |x| < 2^-7: saturated at the largest Recip
+      EXPECT_EQ(value(k), (raw < 0 ? -1 : 1) * value(Recip{65535, kRecipMaxScale, false})) << raw;
+      continue;
+    }
+    worst = std::max(worst, std::abs(value(k) / (32768.0 / raw) - 1));
   }
   std::printf("reciprocal worst relative error: %.2e\n", worst);
   EXPECT_LT(worst, 5e-5);
 }
 
 TEST(FixedReciprocal, DampedIsContinuousBoundedAndOdd) {
-  const Unit eps = unit(wmra::Ratio{5, 100});
-  const Recip inv_eps2 = recip_constant(wmra::Ratio{(int64_t)eps.raw * eps.raw, 32768ll * 32768});
-  auto value = [&](int16_t raw) {
-    const Recip k = damped_reciprocal(Unit{raw}, eps, inv_eps2);
-    return (k.negative ? -1 : 1) * k.mantissa / 65536.0 * std::pow(2.0, k.shift);
-  };
-  double previous = value(-4000), max_step = 0, max_abs = 0;
+  const DampedBand band = damped_band(unit(wmra::Ratio{5, 100}));
+  auto damped = [&](int16_t raw) { return value(damped_reciprocal(Unit{raw}, band)); };
+  double previous = damped(-4000), max_step = 0, max_abs = 0;
   for (int raw = -3999; raw <= 4000; ++raw) {
-    const double v = value((int16_t)raw);
+    const double v = damped((int16_t)raw);
     max_step = std::max(max_step, std::abs(v - previous));
     max_abs = std::max(max_abs, std::abs(v));
-    EXPECT_NEAR(v, -value((int16_t)-raw), 1e-9);
+    EXPECT_NEAR(v, -damped((int16_t)-raw), 1e-9);
     previous = v;
   }
-  EXPECT_EQ(value(0), 0.0);
+  EXPECT_EQ(damped(0), 0.0);
   EXPECT_LT(max_abs, 1 / 0.05 * 1.001);
   // one Q15 step times the steepest slope 1/eps^2 = 400 is 0.0122, plus reciprocal rounding
   EXPECT_LT(max_step, 0.015);
 }
 
-TEST(FixedPoint, ProductsAreExactFloors) {
+// The Unit * Real products leave out the product of the low bytes (fixed_point.h): they are
+// the floor of that difference, so at most two steps below the exact floor (four for dot).
+TEST(FixedPoint, ProductsLeaveOutOnlyTheLowBytes) {
   std::mt19937 rng(5);
   std::uniform_int_distribution<int32_t> x(INT32_MIN / 2, INT32_MAX / 2);
   std::uniform_int_distribution<int> c(-32767, 32767);
+  auto low = [](int32_t v, int32_t w) { return (double)(v & 0xFF) * (w & 0xFF); };
   for (int n = 0; n < 200000; ++n) {
-    const int32_t a = x(rng);
-    const int16_t b = (int16_t)c(rng);
-    ASSERT_EQ(mul_hi_32x16(a, b), (int32_t)std::floor((double)a * b / 65536.0));
-    ASSERT_EQ(mul_hi_32xu16(a, (uint16_t)(b + 32768)), (int32_t)std::floor((double)a * (b + 32768) / 65536.0));
+    const int32_t a = x(rng), y = x(rng);
+    const int16_t b = (int16_t)c(rng), d = (int16_t)c(rng);
+    const double exact = std::floor((double)a * b / 32768.0);
+    const int32_t p = mul_q15(a, b);
+    ASSERT_EQ(p, (int32_t)std::floor(((double)a * b - low(a, b)) / 32768.0));
+    ASSERT_LE(p, exact);
+    ASSERT_GE(p, exact - 2);
+    const int32_t s = dot_q15(b, a, d, y);
+    ASSERT_EQ(s, (int32_t)std::floor(((double)a * b - low(a, b) + (double)y * d - low(y, d)) / 32768.0));
+    ASSERT_GE(s, std::floor(((double)a * b + (double)y * d) / 32768.0) - 4);
+    const Recip k{(uint16_t)(b + 32768), (uint8_t)(1 << (n & 7)), d < 0};
+    const double q = std::floor(((double)a * k.mantissa - low(a, k.mantissa)) / 65536.0) * k.scale;
+    const double limited = std::max<double>(-kRecipProductLimit, std::min<double>(kRecipProductLimit, q));
+    ASSERT_EQ((Real{a} * k).raw, (int32_t)(k.negative ? -limited : limited));
   }
 }
 
@@ -145,4 +161,23 @@ TEST(FixedMath, IntegerSquareRoot) {
   }
   EXPECT_EQ(isqrt32(0), 0);
   EXPECT_EQ(isqrt32(0xFFFFFFFFu), 65535);
+}
+
+// 1/x of a positive Real (the resolved-rate speed limits divide by joint speeds this way):
+// relative error within 1e-4 up to x = 2; above, a Recip holds 1/x < 0.5 as a mantissa
+// below 2^15 with no negative scale, so the error is within one step of 2^-16 besides.
+// Saturated at 128 below x = 2^-7.
+TEST(FixedReciprocal, PositiveRealValues) {
+  double worst = 0;
+  for (double x = 1.0 / 128; x < 250; x *= 1.0007) {
+    const Recip k = reciprocal(real(x));
+    const double exact = 1 / to_double(real(x));
+    const double error = std::abs(k.mantissa / 65536.0 * k.scale - exact);
+    worst = std::max(worst, error / (1e-4 * exact + 1.0 / 65536));
+  }
+  std::printf("reciprocal of a Real over [2^-7, 250]: worst error %.2f of its bound\n", worst);
+  EXPECT_LT(worst, 1.0);
+  const Recip tiny = reciprocal(Real{1000});
+  EXPECT_EQ(tiny.scale, kRecipMaxScale);
+  EXPECT_EQ(tiny.mantissa, 65535);
 }

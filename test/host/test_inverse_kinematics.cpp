@@ -163,8 +163,8 @@ TEST(InverseKinematicsFixed, UnreachableAndDegeneratePosesSaySo) {
   EXPECT_EQ(kin::inverse_kinematics<Fixed>(far).status, kin::IkStatus::unreachable);
   EXPECT_EQ(kin::inverse_kinematics<Fixed>(far).count, 0);
   kin::Pose<Fixed> over = fixed_pose_of(ref::fk({0.2, 1.2, 1.0, 0.6, 0.3, 0}));
-  over.p_m = {over.R[0][2] * kin::ArmConstants<Fixed>::d6, over.R[1][2] * kin::ArmConstants<Fixed>::d6,
-              fx::real(0.5)};
+  over.p_m = {fx::to_real(over.R[0][2] * kin::ArmConstants<Fixed>::d6),
+              fx::to_real(over.R[1][2] * kin::ArmConstants<Fixed>::d6), fx::real(0.5)};
   EXPECT_EQ(kin::inverse_kinematics<Fixed>(over).status, kin::IkStatus::degenerate);
   EXPECT_EQ(kin::inverse_kinematics<Fixed>(over).count, 0);
 }

@@ -45,4 +45,13 @@ TEST_F(AvrBench, FixedInverseKinematicsWithinBudget) {
   EXPECT_LE(ik.max, 15000);
 }
 
+// SPEC section 8: the inverse Jacobian from the joint angles (its sines and cosines included)
+// <= 3,000 cycles, gated on the worst case over the pose set
+TEST_F(AvrBench, FixedInverseJacobianWithinBudget) {
+  const Timing jinv = get("jinv_fixed");
+  ASSERT_GT(jinv.max, 0);
+  RecordProperty("jinv_fixed_max_cycles", std::to_string(jinv.max));
+  EXPECT_LE(jinv.max, 3000);
+}
+
 }  // namespace
