@@ -40,6 +40,7 @@ TEST(SimWiring, StepTrainsFromTimer5ReachTheDrivers) {
   const int64_t expected[3] = {100, 1000, 500};
   const double rate_hz[3] = {250, 4000, 2500};
   const int sign[3] = {+1, -1, +1};
+  double start_s[3];
   for (int slot = 0; slot < 3; ++slot) {
     const int j = plant::kStepperJoints[slot];
     SCOPED_TRACE("J" + std::to_string(j + 1));
@@ -47,9 +48,12 @@ TEST(SimWiring, StepTrainsFromTimer5ReachTheDrivers) {
     EXPECT_EQ(m.steps[slot].lost, 0);
     EXPECT_EQ(m.steps[slot].ignored, 0);
     EXPECT_EQ(m.steps[slot].timing_violations, 0);
-    // the last step comes when the count at the rate says, after the image's set-up (~86 us)
-    const double start_s = sim.plant().driver(j).last_step_s() - (expected[slot] - 0.5) / rate_hz[slot];
-    EXPECT_NEAR(start_s, 86.25e-6, 1e-6);
+    // the last step comes when the count at the rate says, after the image's set-up: the
+    // three trains start together, within the image's first 200 us
+    start_s[slot] = sim.plant().driver(j).last_step_s() - (expected[slot] - 0.5) / rate_hz[slot];
+    EXPECT_GT(start_s[slot], 0.0);
+    EXPECT_LT(start_s[slot], 200e-6);
+    EXPECT_NEAR(start_s[slot], start_s[0], 1e-6);
     EXPECT_NEAR(sim.q()[j], q0[j] + sign[slot] * expected[slot] * microstep_joint_rad(j), 0.5 * 32 * microstep_joint_rad(j));
     EXPECT_NEAR(sim.plant().stepper(j).q_commanded(), q0[j] + sign[slot] * expected[slot] * microstep_joint_rad(j), 1e-12);
   }
