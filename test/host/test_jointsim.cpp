@@ -2,7 +2,6 @@
 // results reproduced with lib/control's blocks in the loop (seed 0's 250-count step, seed 1's
 // relay), the arm's DC joints under the pole-placement PID, and the CLI.
 #include <gtest/gtest.h>
-
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -23,9 +22,9 @@ using namespace wmra::jointsim;
 namespace {
 
 StepperRotorParams seed0_motor() {
-  return StepperRotorParams{kSeed0HoldingTorqueNm, kSeed0DetentTorqueNm, kSeed0CornerSpeedRadS, kSeed0InertiaKgm2,
-                            kSeed0ViscousNmPerRadS, kSeed0DampingRatio, kSeed0RotorTeeth,
-                            kSeed0HalfStepsPerElectricalPeriod};
+  return StepperRotorParams{
+      kSeed0HoldingTorqueNm,  kSeed0DetentTorqueNm, kSeed0CornerSpeedRadS, kSeed0InertiaKgm2,
+      kSeed0ViscousNmPerRadS, kSeed0DampingRatio,   kSeed0RotorTeeth,      kSeed0HalfStepsPerElectricalPeriod};
 }
 
 // Steps the rotor through a constant-acceleration step train from rest to `top` steps/s (exact
@@ -128,8 +127,10 @@ TEST(JointsimSeed0, ReproducesTheThesis250CountStep) {
     peak = std::max(peak, w.position_counts);
     max_command_change = std::max(max_command_change, std::abs(w.command_steps_s - prev_command));
     prev_command = w.command_steps_s;
-    if (std::abs(w.position_counts - 250) > 1) arrival = -1;
-    else if (arrival < 0) arrival = w.t_s;
+    if (std::abs(w.position_counts - 250) > 1)
+      arrival = -1;
+    else if (arrival < 0)
+      arrival = w.t_s;
     if (w.t_s > 0.245 && w.t_s < 0.345) {  // cruise
       EXPECT_NEAR(w.train_steps_s, 1000.0, 0.5) << w.t_s;
       cruise_min = std::min(cruise_min, w.speed_steps_s);
@@ -142,11 +143,12 @@ TEST(JointsimSeed0, ReproducesTheThesis250CountStep) {
     if (braking_start < 0 && r.rows[i].t_s > 0.3 && r.rows[i].train_steps_s < 990) braking_start = r.rows[i].t_s;
     if (braking_start > 0 && braking_end < 0 && r.rows[i].train_steps_s <= 60) braking_end = r.rows[i].t_s;
   }
-  std::printf("seed 0, 250 counts: step train at V_S at %.2f s, cruise (rotor %.0f..%.0f steps/s), braking %.2f to "
-              "%.2f s, peak %d counts, within 1 count from %.2f s, %lld steps lost, step train accel <= %.0f "
-              "steps/s^2\n",
-              at_vs, cruise_min, cruise_max, braking_start, braking_end, peak, arrival,
-              (long long)r.rows.back().lost_steps, r.max_train_accel_steps_s2);
+  std::printf(
+      "seed 0, 250 counts: step train at V_S at %.2f s, cruise (rotor %.0f..%.0f steps/s), braking %.2f to "
+      "%.2f s, peak %d counts, within 1 count from %.2f s, %lld steps lost, step train accel <= %.0f "
+      "steps/s^2\n",
+      at_vs, cruise_min, cruise_max, braking_start, braking_end, peak, arrival, (long long)r.rows.back().lost_steps,
+      r.max_train_accel_steps_s2);
   EXPECT_GT(at_vs, 0.19);  // alpha-limited: V_S / alpha = 0.2 s
   EXPECT_LT(at_vs, 0.24);
   EXPECT_GT(cruise_min, 950);
@@ -158,8 +160,8 @@ TEST(JointsimSeed0, ReproducesTheThesis250CountStep) {
   EXPECT_EQ(r.rows.back().lost_steps, 0);
   EXPECT_LE(r.max_train_accel_steps_s2, o.alpha_steps_s2);  // the step train never above alpha
   EXPECT_GT(r.max_train_accel_steps_s2, 0.9 * o.alpha_steps_s2);
-  EXPECT_LE(max_command_change, 50);                        // nor V_C (alpha dt per period)
-  EXPECT_LE(peak, 262);  // the ramp's lag behind V_C's staircase: ~10 counts past the target
+  EXPECT_LE(max_command_change, 50);  // nor V_C (alpha dt per period)
+  EXPECT_LE(peak, 262);               // the ramp's lag behind V_C's staircase: ~10 counts past the target
 }
 
 // The tuning seed 0 describes (3.4): raising alpha until steps are lost; a V_S the torque curve
@@ -276,9 +278,10 @@ TEST(JointsimSeed1, IdealRelayAt47HzKeepsOscillating) {
 
 TEST(JointsimSeed1, SixDegreeDeadZoneAt188HzSettlesAndStops) {
   const RelayTail t = relay_tail(188, 6);
-  std::printf("seed 1, 188 Hz, 6 deg dead zone: error %.2f deg, speed %.1e rad/s, on %d samples in the last s, "
-              "peak %.2f rad\n",
-              t.final_error_rad * 180 / kPi, t.final_speed, t.on, t.peak_rad);
+  std::printf(
+      "seed 1, 188 Hz, 6 deg dead zone: error %.2f deg, speed %.1e rad/s, on %d samples in the last s, "
+      "peak %.2f rad\n",
+      t.final_error_rad * 180 / kPi, t.final_speed, t.on, t.peak_rad);
   EXPECT_EQ(t.on, 0);
   EXPECT_EQ(t.switches, 0);
   EXPECT_LE(std::fabs(t.final_error_rad), 6 * kPi / 180);
@@ -312,8 +315,8 @@ TEST(DcJointRl, WithoutInductanceItIsThePlantsDcJoint) {
 }
 
 TEST(DcJointRl, ArmatureConstantsFromTheDatasheet) {
-  EXPECT_DOUBLE_EQ(kDcArmatureResistanceOhm, 0.5);               // 12 V / 24 A
-  EXPECT_NEAR(kDcTorqueConstantNmPerA, 0.38, 1e-12);             // 9.12 N m / 24 A
+  EXPECT_DOUBLE_EQ(kDcArmatureResistanceOhm, 0.5);    // 12 V / 24 A
+  EXPECT_NEAR(kDcTorqueConstantNmPerA, 0.38, 1e-12);  // 9.12 N m / 24 A
   EXPECT_NEAR(kDcBackEmfVsPerRad, 12 / (85 * 2 * kPi / 60), 1e-12);
   EXPECT_LT(kDcTorqueConstantNmPerA / kDcBackEmfVsPerRad, 0.5);  // a self-locking worm's efficiency
   // blocked (a huge inertia): the current rises to V/R with time constant L/R
@@ -398,10 +401,11 @@ TEST(JointsimDc, PidStepResponses) {
       const DcResult r = run_dc(o);
       const double count = dc_count_rad(joint);
       const StepMetrics m = step_metrics(r.rows, 0, step, std::max(0.02 * std::fabs(step), count), 0.5);
-      std::printf("J%d %+.1f rad: overshoot %.1f %%, 10-90 %% %.2f s, settled (2 %%) at %.2f s, steady error %.2f "
-                  "counts, %.1f A at rest\n",
-                  joint, step, m.overshoot_percent, m.rise_s, m.settling_s, m.steady_error_rad / count,
-                  mean_abs_current(r, 3.5));
+      std::printf(
+          "J%d %+.1f rad: overshoot %.1f %%, 10-90 %% %.2f s, settled (2 %%) at %.2f s, steady error %.2f "
+          "counts, %.1f A at rest\n",
+          joint, step, m.overshoot_percent, m.rise_s, m.settling_s, m.steady_error_rad / count,
+          mean_abs_current(r, 3.5));
       EXPECT_LT(m.overshoot_percent, 5.0) << joint << " " << step;
       EXPECT_GT(m.settling_s, 0) << joint << " " << step;
       EXPECT_LT(m.settling_s, 3.0) << joint << " " << step;
@@ -520,14 +524,14 @@ TEST(JointsimCli, CsvHeaderFirstAndErrorsExitNonZero) {
   EXPECT_EQ(first_line(r.out), "t,target,position,velocity,adc,duty,current");
 
   const char* bad[] = {
-      "seed0 --kp",                               // missing value
-      "seed0 --kp abc",                           // not a number
-      "seed0 --kp 500",                           // out of range
-      "seed0 --frobnicate 1",                     // unknown option
-      "seed0 --variant pic",                      // not one of the words
-      "seed0 --alpha 10",                         // refused by the controller (alpha dt < 1)
-      "seed1-relay --fs 47",                      // required option missing
-      "seed1-relay --fs 47 --deadzone-deg -1",    // out of range
+      "seed0 --kp",                             // missing value
+      "seed0 --kp abc",                         // not a number
+      "seed0 --kp 500",                         // out of range
+      "seed0 --frobnicate 1",                   // unknown option
+      "seed0 --variant pic",                    // not one of the words
+      "seed0 --alpha 10",                       // refused by the controller (alpha dt < 1)
+      "seed1-relay --fs 47",                    // required option missing
+      "seed1-relay --fs 47 --deadzone-deg -1",  // out of range
       "dc --joint 5 --controller pid --step-rad 0.1",
       "dc --joint 2 --controller lqr --step-rad 0.1",
       "dc --joint 2 --controller pid --step-rad 3",  // beyond the joint's limit

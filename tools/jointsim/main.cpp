@@ -1,11 +1,11 @@
 // jointsim: one joint, one controller of lib/control, a plant model; CSV on stdout (header first).
 //
 //   jointsim seed0 [--target COUNTS] [--kp 13] [--kd 0.02] [--alpha 5000] [--vs 1000] [--dt 0.01]
-//                  [--duration 1] [--variant thesis|firmware]
+//                  [--duration 1] [--variant thesis|firmware] [--ramp-alpha A] [--timer-hz 250000|2000000]
 //   jointsim seed1-relay --fs HZ --deadzone-deg D [--target-rad 6.2832] [--drive-v 12] [--duration 6]
 //   jointsim dc --joint 2|3|4 --controller pid|relay --step-rad R [--start-rad 0] [--duration 3]
-//               [--rate 1000] [--poles P1,P2,P3] [--deadzone-deg 0.5] [--hysteresis-deg 0] [--relay-duty 1] [--noise-mv 1.5]
-//               [--seed 1] [--park-counts 0] [--no-payload] [--show-design]
+//               [--rate 1000] [--poles P1,P2,P3] [--deadzone-deg 0.5] [--hysteresis-deg 0] [--relay-duty 1]
+//               [--noise-mv 1.5] [--seed 1] [--park-counts 0] [--no-payload] [--show-design]
 //
 // What each models: sim.h and README. A wrong option, a missing or non-numeric value, or a value
 // out of range gets a message on stderr and exit status 1.
@@ -115,7 +115,8 @@ class Args {
   }
   void check_range(const std::string& name, double v, double lo, double hi) const {
     if (v < lo || v > hi) {
-      throw BadInput{preset_ + ": --" + name + " " + number(v) + " is outside [" + number(lo) + ", " + number(hi) + "]"};
+      throw BadInput{preset_ + ": --" + name + " " + number(v) + " is outside [" + number(lo) + ", " + number(hi) +
+                     "]"};
     }
   }
   std::string preset_;
@@ -124,7 +125,8 @@ class Args {
 };
 
 void seed0(const std::vector<std::string>& words) {
-  const Args a("seed0", words, {"target", "kp", "kd", "alpha", "vs", "dt", "duration", "variant", "ramp-alpha", "timer-hz"}, {});
+  const Args a("seed0", words,
+               {"target", "kp", "kd", "alpha", "vs", "dt", "duration", "variant", "ramp-alpha", "timer-hz"}, {});
   Seed0Options o;
   o.target_counts = (int32_t)a.integer("target", o.target_counts, -30000, 30000);
   o.kp = a.real("kp", o.kp, 0, 127);
@@ -134,7 +136,7 @@ void seed0(const std::vector<std::string>& words) {
   o.dt_s = a.real("dt", o.dt_s, 0.001, 0.1);
   o.duration_s = a.real("duration", o.duration_s, o.dt_s, 60);
   o.variant = a.word("variant", "thesis", {"thesis", "firmware"}) == "thesis" ? control::Seed0Variant::thesis
-                                                                                : control::Seed0Variant::firmware;
+                                                                              : control::Seed0Variant::firmware;
   o.ramp_alpha_steps_s2 = a.real("ramp-alpha", 0, 0, 1e7);
   o.timer_hz = (int32_t)std::stol(a.word("timer-hz", std::to_string(o.timer_hz), {"250000", "2000000"}));
   write_csv(std::cout, run_seed0(o));
@@ -197,11 +199,13 @@ void dc(const std::vector<std::string>& words) {
 int usage() {
   std::fprintf(stderr,
                "usage: jointsim seed0 [--target COUNTS] [--kp 13] [--kd 0.02] [--alpha 5000] [--vs 1000] [--dt 0.01]\n"
-               "                      [--duration 1] [--variant thesis|firmware]\n"
+               "                      [--duration 1] [--variant thesis|firmware] [--ramp-alpha A]\n"
+               "                      [--timer-hz 250000|2000000]\n"
                "       jointsim seed1-relay --fs HZ --deadzone-deg D [--target-rad 6.2832] [--drive-v 12]\n"
                "                      [--duration 6]\n"
                "       jointsim dc --joint 2|3|4 --controller pid|relay --step-rad R [--start-rad 0] [--duration 3]\n"
-               "                      [--rate 1000] [--poles P1,P2,P3] [--deadzone-deg 0.5] [--hysteresis-deg 0] [--relay-duty 1]\n"
+               "                      [--rate 1000] [--poles P1,P2,P3] [--deadzone-deg 0.5] [--hysteresis-deg 0] "
+               "[--relay-duty 1]\n"
                "                      [--noise-mv 1.5] [--seed 1] [--park-counts 0] [--no-payload] [--show-design]\n"
                "CSV on stdout, header line first.\n");
   return 2;

@@ -29,32 +29,45 @@ std::string fmt(const char* f, double v) {
 
 const char* seed0_status_text(control::Seed0Status s) {
   switch (s) {
-    case control::Seed0Status::gain_invalid: return "K_P or K_D out of the controller's range (K_P < 128, K_D / dt < 128)";
-    case control::Seed0Status::accel_not_positive: return "alpha x dt rounds to less than 1 step/s per period";
-    case control::Seed0Status::speed_invalid: return "V_S out of the controller's range";
-    case control::Seed0Status::band_invalid: return "deadband / near band invalid";
-    default: return "ok";
+    case control::Seed0Status::gain_invalid:
+      return "K_P or K_D out of the controller's range (K_P < 128, K_D / dt < 128)";
+    case control::Seed0Status::accel_not_positive:
+      return "alpha x dt rounds to less than 1 step/s per period";
+    case control::Seed0Status::speed_invalid:
+      return "V_S out of the controller's range";
+    case control::Seed0Status::band_invalid:
+      return "deadband / near band invalid";
+    default:
+      return "ok";
   }
 }
 
-const char* ramp_status_text(control::RampStatus s) {
+std::string ramp_status_text(control::RampStatus s, uint32_t tick_hz) {
   switch (s) {
-    case control::RampStatus::accel_not_positive: return "alpha must be positive";
-    case control::RampStatus::accel_too_low:
-      return "alpha is too low for the step timer (the first interval sqrt(2/alpha) must fit 16 bits at 2 MHz: "
-             "alpha >= 1,870 steps/s^2)";
-    case control::RampStatus::accel_too_high: return "alpha is too high for the step timer";
-    case control::RampStatus::min_interval_invalid: return "minimum step interval invalid";
-    case control::RampStatus::speed_range_too_wide: return "alpha too low for V_S (more than 2^22 ramp levels)";
-    default: return "ok";
+    case control::RampStatus::accel_not_positive:
+      return "alpha must be positive";
+    case control::RampStatus::accel_too_low: {
+      // the first interval sqrt(2 / (31/32 a)) must fit the 16-bit compare register
+      const double least = 2.0 * 32 / 31 * std::pow(tick_hz / 65534.0, 2);
+      return "alpha is too low for the step timer at " + std::to_string(tick_hz) +
+             " Hz (its first interval must fit 16 bits): at least " + fmt("%.0f", std::ceil(least)) + " steps/s^2";
+    }
+    case control::RampStatus::accel_too_high:
+      return "alpha is too high for the step timer";
+    case control::RampStatus::min_interval_invalid:
+      return "minimum step interval invalid";
+    case control::RampStatus::speed_range_too_wide:
+      return "alpha too low for V_S (more than 2^22 ramp levels)";
+    default:
+      return "ok";
   }
 }
 
 // seed 0's motor and load (joint_data.h)
 StepperRotorParams seed0_rotor() {
-  return StepperRotorParams{kSeed0HoldingTorqueNm, kSeed0DetentTorqueNm, kSeed0CornerSpeedRadS, kSeed0InertiaKgm2,
-                            kSeed0ViscousNmPerRadS, kSeed0DampingRatio, kSeed0RotorTeeth,
-                            kSeed0HalfStepsPerElectricalPeriod};
+  return StepperRotorParams{
+      kSeed0HoldingTorqueNm,  kSeed0DetentTorqueNm, kSeed0CornerSpeedRadS, kSeed0InertiaKgm2,
+      kSeed0ViscousNmPerRadS, kSeed0DampingRatio,   kSeed0RotorTeeth,      kSeed0HalfStepsPerElectricalPeriod};
 }
 
 // The encoder's count edges sit 1/8 count off the power-up position, so that the rotor's rest
@@ -73,7 +86,8 @@ template <uint32_t kTickHz>
 Seed0Result run_seed0_at(const Seed0Options& o) {
   using namespace control;
   const int32_t dt_ms = (int32_t)std::lround(o.dt_s * 1000);
-  if (dt_ms < 1 || std::fabs(dt_ms - o.dt_s * 1000) > 1e-6) throw BadOption("dt must be a whole number of milliseconds");
+  if (dt_ms < 1 || std::fabs(dt_ms - o.dt_s * 1000) > 1e-6)
+    throw BadOption("dt must be a whole number of milliseconds");
   const int32_t alpha = (int32_t)std::lround(o.alpha_steps_s2);
   const int32_t v_s = (int32_t)std::lround(o.v_s_steps_s);
   // joint 1 of Appendix A for the firmware variant's bands (seed0 3.5)
@@ -94,7 +108,7 @@ Seed0Result run_seed0_at(const Seed0Options& o) {
   // the ramp's top speed 2 V_S: never the limit (V_C <= V_S)
   const uint16_t min_interval = (uint16_t)std::max<int64_t>(1, std::min<int64_t>(65534, kTickHz / (2 * (int64_t)v_s)));
   const RampStatus rs = ramp.configure({ramp_alpha, min_interval});
-  if (rs != RampStatus::ok) throw BadOption(std::string("step ramp: ") + ramp_status_text(rs));
+  if (rs != RampStatus::ok) throw BadOption("step ramp: " + ramp_status_text(rs, kTickHz));
 
   StepperRotor rotor(seed0_rotor());
   const int64_t kSubstepTicks = kTickHz / 40000;  // 25 us
@@ -119,7 +133,8 @@ Seed0Result run_seed0_at(const Seed0Options& o) {
     const uint32_t interval_q16 = ramp.last_interval_q16();
     if (last_interval != 0 && s.dir == last_dir) {
       const double t1 = last_interval * tick_s / 65536, t2 = interval_q16 * tick_s / 65536;
-      res.max_train_accel_steps_s2 = std::max(res.max_train_accel_steps_s2, std::fabs(1 / t2 - 1 / t1) / ((t1 + t2) / 2));
+      res.max_train_accel_steps_s2 =
+          std::max(res.max_train_accel_steps_s2, std::fabs(1 / t2 - 1 / t1) / ((t1 + t2) / 2));
     }
     last_interval = interval_q16;
     last_dir = s.dir;
@@ -187,9 +202,12 @@ Seed1Result run_seed1_relay(const Seed1Options& o) {
 
 std::vector<double> default_dc_poles(int joint) {
   switch (joint) {
-    case 2: return {-5, -7.5, -10};
-    case 3: return {-6, -9, -12};
-    default: return {-8, -12, -16};
+    case 2:
+      return {-5, -7.5, -10};
+    case 3:
+      return {-6, -9, -12};
+    default:
+      return {-8, -12, -16};
   }
 }
 
@@ -259,8 +277,7 @@ DcResult run_dc(const DcOptions& o) {
                            plant::NoiseStream(o.seed, (uint64_t)o.joint));
   const double target = o.start_rad + o.step_rad;
   // the setpoint in position units: the ADC truncates, so its mean reading sits half a count below
-  const int32_t setpoint =
-      (int32_t)std::lround((pot_counts(pot, target) - 0.5) * kPositionUnitsPerCount);
+  const int32_t setpoint = (int32_t)std::lround((pot_counts(pot, target) - 0.5) * kPositionUnitsPerCount);
   if (o.controller == DcController::pid) {
     res.design = design_dc_pid(o);
     if (pid.configure(res.design.config) != PidStatus::ok) throw BadOption("PID configuration refused");
@@ -336,8 +353,10 @@ StepMetrics step_metrics(const std::vector<DcRow>& rows, double start_rad, doubl
     m.overshoot_rad = std::max(m.overshoot_rad, progress - std::fabs(step));
     if (t10 < 0 && progress >= 0.1 * std::fabs(step)) t10 = r.t_s;
     if (t90 < 0 && progress >= 0.9 * std::fabs(step)) t90 = r.t_s;
-    if (std::fabs(target_rad - r.position_rad) > band_rad) m.settling_s = -1;
-    else if (m.settling_s < 0) m.settling_s = r.t_s;
+    if (std::fabs(target_rad - r.position_rad) > band_rad)
+      m.settling_s = -1;
+    else if (m.settling_s < 0)
+      m.settling_s = r.t_s;
     if (r.t_s >= t_end - tail_s) {
       err_sum += target_rad - r.position_rad;
       ++err_n;

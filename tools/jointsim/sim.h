@@ -24,21 +24,25 @@ struct BadOption : std::runtime_error {
 };
 
 // --- seed 0: a stepper joint under seed 0's controller (seed0 3, 7.5-7.6)
-// Seed0StepperController every dt -> V_C -> StepRamp<2 MHz> (acceleration limit alpha, so the
-// step train never speeds up or slows down faster than alpha) -> step edges at their timer ticks
+// Seed0StepperController every dt -> V_C -> StepRamp (acceleration limit alpha, so the step
+// train never speeds up or slows down faster than alpha) -> step edges at their timer ticks
 // -> StepperRotor (AK85H, half steps, seed 0's inertia and friction) -> 1:20 -> encoder (6000
 // counts per joint turn, 0.75 count per half-step).
 struct Seed0Options {
   int32_t target_counts = 250;
-  double kp = 13;                  // K_P, steps/s per count
-  double kd_s = 0.02;              // K_D, s
-  double alpha_steps_s2 = 5000;    // alpha
-  double v_s_steps_s = 1000;       // V_S
-  double dt_s = 0.01;              // control period, whole milliseconds
+  double kp = 13;                // K_P, steps/s per count
+  double kd_s = 0.02;            // K_D, s
+  double alpha_steps_s2 = 5000;  // alpha
+  double v_s_steps_s = 1000;     // V_S
+  double dt_s = 0.01;            // control period, whole milliseconds
   double duration_s = 1.0;
   control::Seed0Variant variant = control::Seed0Variant::thesis;
-  double ramp_alpha_steps_s2 = 0;  // the step ramp's acceleration limit; 0: alpha
-  int32_t timer_hz = kSeed0StepTimerHz;  // the step timer: 250 kHz or 2 MHz
+  double ramp_alpha_steps_s2 = 0;        // the step ramp's acceleration limit; 0: alpha
+  // The step timer, 250 kHz (Timer5 at prescaler 64) or 2 MHz (prescaler 8, the arm's steppers).
+  // Its 16-bit compare times steps down to F / 65534: 3.8 steps/s at 250 kHz, 31 at 2 MHz, where
+  // the PD's creep near the target (K_P e = 13 steps/s at 1 count) is a stop and the joint parks
+  // 2 counts short (test_jointsim: TheStepTimersSlowestStepMatters).
+  int32_t timer_hz = kSeed0StepTimerHz;
 };
 
 struct Seed0Row {
@@ -52,7 +56,7 @@ struct Seed0Row {
 };
 
 struct Seed0Result {
-  std::vector<Seed0Row> rows;  // one per control period, the first at t = dt
+  std::vector<Seed0Row> rows;           // one per control period, the first at t = dt
   double max_train_accel_steps_s2 = 0;  // largest |acceleration| between consecutive step pairs
   int64_t steps_emitted = 0;
 };
@@ -96,7 +100,7 @@ struct DcOptions {
   int joint = 2;  // arm numbering, 2..4
   DcController controller = DcController::pid;
   double step_rad = 0.2;
-  double start_rad = 0.0;     // this joint's angle at the start; the others are 0 (stretched)
+  double start_rad = 0.0;  // this joint's angle at the start; the others are 0 (stretched)
   double duration_s = 3.0;
   double rate_hz = 0;         // 0: the default (kDcDefaultRateHz)
   std::vector<double> poles;  // closed-loop poles, rad/s, < 0; empty: the joint's default
@@ -140,10 +144,10 @@ DcDesign design_dc_pid(const DcOptions& o);
 struct DcRow {
   double t_s;
   double target_rad;
-  double position_rad;   // the true joint angle
+  double position_rad;  // the true joint angle
   double velocity_rad_s;
-  int adc_counts;        // what the controller saw
-  double duty;           // applied, -1..1
+  int adc_counts;  // what the controller saw
+  double duty;     // applied, -1..1
   double current_a;
 };
 

@@ -17,7 +17,8 @@ namespace jointsim {
 class DcJointRl {
  public:
   // joint: the plant's index, 1..3 for J2..J4
-  explicit DcJointRl(int joint, double inductance_h = kDcArmatureInductanceH, bool self_locking = plant::kDcSelfLocking);
+  explicit DcJointRl(int joint, double inductance_h = kDcArmatureInductanceH,
+                     bool self_locking = plant::kDcSelfLocking);
 
   void set_angle(double q_rad);  // at rest, no current
   void set_voltage(double v) { voltage_v_ = v; }

@@ -24,14 +24,14 @@ constexpr double kSeed0HoldingTorqueNm = 52 * kKgfCmToNm;  // 5.10 N m
 constexpr double kSeed0DetentTorqueNm = 2.6 * kKgfCmToNm;  // 5 % of holding
 constexpr double kSeed0PhaseCurrentA = 5.0;
 constexpr double kSeed0PhaseInductanceH = 6.4e-3;
-constexpr double kSeed0FluxLinkageVs = 0.019;              // Psi_M, seed0 Table 6
-constexpr double kSeed0InertiaKgm2 = 2.0e-2;               // J_total at the motor
+constexpr double kSeed0FluxLinkageVs = 0.019;  // Psi_M, seed0 Table 6
+constexpr double kSeed0InertiaKgm2 = 2.0e-2;   // J_total at the motor
 constexpr double kSeed0ViscousNmPerRadS = 5.0e-2;
-constexpr int kSeed0RotorTeeth = 50;                       // 1.8 deg: 200 full steps = 50 electrical periods
-constexpr int kSeed0HalfStepsPerRev = 400;                 // half-step drive (seed0 7.5, Table 5)
+constexpr int kSeed0RotorTeeth = 50;        // 1.8 deg: 200 full steps = 50 electrical periods
+constexpr int kSeed0HalfStepsPerRev = 400;  // half-step drive (seed0 7.5, Table 5)
 constexpr int kSeed0HalfStepsPerElectricalPeriod = kSeed0HalfStepsPerRev / kSeed0RotorTeeth;  // 8
 constexpr int kSeed0GearRatio = 20;
-constexpr int kSeed0EncoderCountsPerJointRev = 6000;       // 500 ppr x4 x 3:1 pulley (seed0 4.2)
+constexpr int kSeed0EncoderCountsPerJointRev = 6000;  // 500 ppr x4 x 3:1 pulley (seed0 4.2)
 // 0.75 encoder counts per half-step
 constexpr double kSeed0CountsPerHalfStep =
     (double)kSeed0EncoderCountsPerJointRev / (kSeed0HalfStepsPerRev * kSeed0GearRatio);
@@ -41,15 +41,16 @@ constexpr double kSeed0CountsPerHalfStep =
 //   omega_c = V / (N_r (L I + Psi_M)) = 9.4 rad/s (600 half-steps/s),
 // and falls as 1/omega above it (constant power). With the inertia and friction above this puts
 // the limits near the thesis's choices: at V_S = 1,000 half-steps/s the motor has 3.05 N m for
-// 0.79 N m of friction, i.e. up to ~7,200 half-steps/s^2 (alpha = 5,000 is the last good value
-// of a test that raises it, seed0 3.4), and it cannot run beyond ~1,900 half-steps/s at all.
+// 0.79 N m of friction, i.e. up to ~7,200 half-steps/s^2 in a steady state (alpha = 5,000 is
+// the last good value of a test that raises it, seed0 3.4), and it cannot run beyond ~1,950
+// half-steps/s at all (test_jointsim measures what the dynamics make of both).
 constexpr double kSeed0SupplyV = 24.0;  // ASSUMPTION
 constexpr double kSeed0CornerSpeedRadS =
     kSeed0SupplyV / (kSeed0RotorTeeth * (kSeed0PhaseInductanceH * kSeed0PhaseCurrentA + kSeed0FluxLinkageVs));
 // The drive damps the rotor's swing about the field with this damping ratio (the virtual arm's
 // assumption for its steppers).
 constexpr double kSeed0DampingRatio = plant::kStepperDampingRatio;  // ASSUMPTION (plant)
-constexpr int kSeed0StepTimerHz = 250000;  // see sim.h
+constexpr int kSeed0StepTimerHz = 250000;                           // Seed0Options::timer_hz
 
 // --- seed 1: the DC motor of the relay experiments (seed1 4.3, 5.2)
 // G(s) = K_m / (s (tau s + 1)), the drive voltage in, the shaft angle out (direct coupling).

@@ -44,8 +44,7 @@ void StepperRotor::advance(double dt) {
 
   const double pull_out = pull_out_torque_nm();
   const double damping = 2.0 * p_.damping_ratio * std::sqrt(stiffness_nm_per_rad_ * p_.inertia_kgm2);
-  double drive = pull_out * std::sin(p_.rotor_teeth * (field - s_.angle_rad)) +
-                 damping * (train - s_.speed_rad_s);
+  double drive = pull_out * std::sin(p_.rotor_teeth * (field - s_.angle_rad)) + damping * (train - s_.speed_rad_s);
   if (drive > pull_out) drive = pull_out;
   if (drive < -pull_out) drive = -pull_out;
   const double detent = -p_.detent_torque_nm * std::sin(4.0 * p_.rotor_teeth * s_.angle_rad);

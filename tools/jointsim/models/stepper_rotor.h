@@ -29,11 +29,11 @@ namespace jointsim {
 struct StepperRotorParams {
   double holding_torque_nm;
   double detent_torque_nm;
-  double corner_speed_rad_s;     // pull-out torque is the holding torque up to here
-  double inertia_kgm2;           // rotor and load at the motor shaft
-  double viscous_nm_per_rad_s;   // at the motor shaft
-  double damping_ratio;          // of the drive's damping on the swing about the field
-  int rotor_teeth;               // N_r (50 for 1.8 deg)
+  double corner_speed_rad_s;        // pull-out torque is the holding torque up to here
+  double inertia_kgm2;              // rotor and load at the motor shaft
+  double viscous_nm_per_rad_s;      // at the motor shaft
+  double damping_ratio;             // of the drive's damping on the swing about the field
+  int rotor_teeth;                  // N_r (50 for 1.8 deg)
   int steps_per_electrical_period;  // 4 full steps, 8 half steps, 4 x microsteps
 };
 
