@@ -417,20 +417,26 @@ TEST(JointsimDc, PidStepResponses) {
 // The PID's integral keeps the effort that lifted the arm, at stall, although the worm would
 // hold the joint unpowered. Parking (duty 0 within a count, the PID restarted from 0) ends it.
 TEST(JointsimDc, ParkingEndsTheHoldingCurrent) {
-  DcOptions o;
-  o.joint = 2;
-  o.step_rad = 0.2;
-  o.duration_s = 4;
-  const double held = mean_abs_current(run_dc(o), 3.5);
-  o.park_counts = 1;
-  const DcResult parked = run_dc(o);
-  const double count = dc_count_rad(2);
-  const StepMetrics m = step_metrics(parked.rows, 0, 0.2, count, 0.5);
-  std::printf("J2 +0.2 rad at rest: %.1f A with the PID on, %.2f A parked (error %.2f counts)\n", held,
-              mean_abs_current(parked, 3.5), m.steady_error_rad / count);
-  EXPECT_GT(held, 15.0);
-  EXPECT_LT(mean_abs_current(parked, 3.5), 0.1);
-  EXPECT_LE(std::fabs(m.steady_error_rad), 1.01 * count);
+  for (int joint = 2; joint <= 4; ++joint) {
+    for (double step : {0.2, -0.2}) {
+      DcOptions o;
+      o.joint = joint;
+      o.step_rad = step;
+      o.duration_s = 4;
+      const double held = mean_abs_current(run_dc(o), 3.5);
+      o.park_counts = 1;
+      const DcResult parked = run_dc(o);
+      const double count = dc_count_rad(joint);
+      const StepMetrics m = step_metrics(parked.rows, 0, step, std::max(0.02 * std::fabs(step), count), 0.5);
+      std::printf("J%d %+.1f rad at rest: %.1f A with the PID on; parked %.2f A, settled at %.2f s, error %.2f counts\n",
+                  joint, step, held, mean_abs_current(parked, 3.5), m.settling_s, m.steady_error_rad / count);
+      if (joint == 2 && step > 0) {
+        EXPECT_GT(held, 15.0);  // lifting the stretched arm: near stall
+      }
+      EXPECT_LT(mean_abs_current(parked, 3.5), 0.1) << joint << " " << step;
+      EXPECT_LE(std::fabs(m.steady_error_rad), 1.01 * count) << joint << " " << step;
+    }
+  }
 }
 
 // Seed 1's relay on the arm's joints: it stops inside its dead zone, and the worm holds there.
@@ -453,9 +459,13 @@ TEST(JointsimDc, RelayStopsInsideItsDeadZone) {
     return on;
   };
   DcRow last{};
-  EXPECT_GT(on_at_rest(2, 0.0, &last), 50);
+  const int chatter = on_at_rest(2, 0.0, &last);
+  std::printf("J2 relay, 1 deg dead zone, no hysteresis: drive on in %d of the last 500 samples at rest\n", chatter);
+  EXPECT_GT(chatter, 50);
   for (int joint = 2; joint <= 4; ++joint) {
     EXPECT_EQ(on_at_rest(joint, 0.3, &last), 0) << joint;
+    std::printf("J%d relay, 1 deg dead zone, 0.3 deg hysteresis: stopped %.2f deg from the target\n", joint,
+                (last.target_rad - last.position_rad) * 180 / kPi);
     EXPECT_EQ(last.velocity_rad_s, 0.0) << joint;
     EXPECT_LE(std::fabs(last.target_rad - last.position_rad), 1.0 * kPi / 180 + dc_count_rad(joint)) << joint;
   }
