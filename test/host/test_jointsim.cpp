@@ -21,16 +21,10 @@ using namespace wmra::jointsim;
 
 namespace {
 
-StepperRotorParams seed0_motor() {
-  return StepperRotorParams{
-      kSeed0HoldingTorqueNm,  kSeed0DetentTorqueNm, kSeed0CornerSpeedRadS, kSeed0InertiaKgm2,
-      kSeed0ViscousNmPerRadS, kSeed0DampingRatio,   kSeed0RotorTeeth,      kSeed0HalfStepsPerElectricalPeriod};
-}
-
 // Steps the rotor through a constant-acceleration step train from rest to `top` steps/s (exact
 // edge times), then holds `top` for `hold_s`; returns the steps lost.
 int64_t drive_profile(double accel_steps_s2, double top_steps_s, double hold_s) {
-  StepperRotor r(seed0_motor());
+  StepperRotor r(seed0_rotor_params());
   const double h = 25e-6;
   double t = 0, next_edge = std::sqrt(2.0 / accel_steps_s2);
   const double t_top = top_steps_s / accel_steps_s2;
@@ -69,14 +63,14 @@ double steps_to_rad(double steps) { return steps * 2 * kPi / kSeed0HalfStepsPerR
 TEST(StepperRotor, PullOutTorqueFallsAboveTheCorner) {
   EXPECT_NEAR(kSeed0HoldingTorqueNm, 5.10, 0.01);
   EXPECT_NEAR(kSeed0CornerSpeedRadS, 9.41, 0.01);  // 24 V / (50 (6.4 mH x 5 A + 0.019 V s))
-  StepperRotor r(seed0_motor());
+  StepperRotor r(seed0_rotor_params());
   EXPECT_DOUBLE_EQ(r.pull_out_torque_nm(), kSeed0HoldingTorqueNm);
   EXPECT_NEAR(r.step_rad(), 2 * kPi / 400, 1e-15);
 }
 
 // Half steps at a slow rate: the rotor follows each one, ends on the commanded position.
 TEST(StepperRotor, FollowsASlowStepTrainExactly) {
-  StepperRotor r(seed0_motor());
+  StepperRotor r(seed0_rotor_params());
   for (int i = 0; i < 200; ++i) {
     r.step(+1);
     for (int k = 0; k < 400; ++k) r.advance(25e-6);  // 100 steps/s

@@ -63,13 +63,6 @@ std::string ramp_status_text(control::RampStatus s, uint32_t tick_hz) {
   }
 }
 
-// seed 0's motor and load (joint_data.h)
-StepperRotorParams seed0_rotor() {
-  return StepperRotorParams{
-      kSeed0HoldingTorqueNm,  kSeed0DetentTorqueNm, kSeed0CornerSpeedRadS, kSeed0InertiaKgm2,
-      kSeed0ViscousNmPerRadS, kSeed0DampingRatio,   kSeed0RotorTeeth,      kSeed0HalfStepsPerElectricalPeriod};
-}
-
 // The encoder's count edges sit 1/8 count off the power-up position, so that the rotor's rest
 // positions (0.75 count apart) never fall on an edge.
 int32_t seed0_encoder(const StepperRotor& r) {
@@ -79,6 +72,12 @@ int32_t seed0_encoder(const StepperRotor& r) {
 }  // namespace
 
 // ------------------------------------------------------------------------------------ seed 0
+
+StepperRotorParams seed0_rotor_params() {
+  return StepperRotorParams{
+      kSeed0HoldingTorqueNm,  kSeed0DetentTorqueNm, kSeed0CornerSpeedRadS, kSeed0InertiaKgm2,
+      kSeed0ViscousNmPerRadS, kSeed0DampingRatio,   kSeed0RotorTeeth,      kSeed0HalfStepsPerElectricalPeriod};
+}
 
 namespace {
 
@@ -110,7 +109,7 @@ Seed0Result run_seed0_at(const Seed0Options& o) {
   const RampStatus rs = ramp.configure({ramp_alpha, min_interval});
   if (rs != RampStatus::ok) throw BadOption("step ramp: " + ramp_status_text(rs, kTickHz));
 
-  StepperRotor rotor(seed0_rotor());
+  StepperRotor rotor(seed0_rotor_params());
   const int64_t kSubstepTicks = kTickHz / 40000;  // 25 us
   const int64_t period_ticks = (int64_t)dt_ms * (kTickHz / 1000);
   const double tick_s = 1.0 / kTickHz;

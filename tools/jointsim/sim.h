@@ -14,6 +14,7 @@
 #include "control/pole_placement.h"
 #include "control/seed0_stepper_controller.h"
 #include "models/joint_data.h"
+#include "models/stepper_rotor.h"
 
 namespace wmra {
 namespace jointsim {
@@ -62,6 +63,8 @@ struct Seed0Result {
 };
 
 Seed0Result run_seed0(const Seed0Options& o);
+// seed 0's motor on its load (joint_data.h), for StepperRotor
+StepperRotorParams seed0_rotor_params();
 
 // --- seed 1: the sampled three-level relay on seed 1's motor (seed1 4.2-4.5, 5.7)
 // Relay (lib/control) every 1/fs on the encoder count (2260 per turn) -> drive +-U or 0, held
