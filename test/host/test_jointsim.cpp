@@ -381,6 +381,25 @@ double mean_abs_current(const DcResult& r, double from_s) {
     }
   return s / n;
 }
+
+// A 0.2 rad step of a DC joint from the stretched pose with the default PID: its figures and the
+// mean current over the last 0.5 s of 4 s
+struct DcStepFigures {
+  StepMetrics m;
+  double count_rad;
+  double rest_current_a;
+};
+DcStepFigures dc_step(int joint, double step, int32_t park_counts) {
+  DcOptions o;
+  o.joint = joint;
+  o.step_rad = step;
+  o.duration_s = 4;
+  o.park_counts = park_counts;
+  const DcResult r = run_dc(o);
+  const double count = dc_count_rad(joint);
+  return DcStepFigures{step_metrics(r.rows, 0, step, std::max(0.02 * std::fabs(step), count), 0.5), count,
+                       mean_abs_current(r, 3.5)};
+}
 }  // namespace
 
 // The arm's DC joints, stretched, payload on, 0.2 rad up (lifting) and down: the default PID
@@ -388,22 +407,19 @@ double mean_abs_current(const DcResult& r, double from_s) {
 TEST(JointsimDc, PidStepResponses) {
   for (int joint = 2; joint <= 4; ++joint) {
     for (double step : {0.2, -0.2}) {
-      DcOptions o;
-      o.joint = joint;
-      o.step_rad = step;
-      o.duration_s = 4;
-      const DcResult r = run_dc(o);
-      const double count = dc_count_rad(joint);
-      const StepMetrics m = step_metrics(r.rows, 0, step, std::max(0.02 * std::fabs(step), count), 0.5);
+      const DcStepFigures f = dc_step(joint, step, 0);
       std::printf(
           "J%d %+.1f rad: overshoot %.1f %%, 10-90 %% %.2f s, settled (2 %%) at %.2f s, steady error %.2f "
           "counts, %.1f A at rest\n",
-          joint, step, m.overshoot_percent, m.rise_s, m.settling_s, m.steady_error_rad / count,
-          mean_abs_current(r, 3.5));
-      EXPECT_LT(m.overshoot_percent, 5.0) << joint << " " << step;
-      EXPECT_GT(m.settling_s, 0) << joint << " " << step;
-      EXPECT_LT(m.settling_s, 3.0) << joint << " " << step;
-      EXPECT_LT(std::fabs(m.steady_error_rad), count) << joint << " " << step;
+          joint, step, f.m.overshoot_percent, f.m.rise_s, f.m.settling_s, f.m.steady_error_rad / f.count_rad,
+          f.rest_current_a);
+      EXPECT_LT(f.m.overshoot_percent, 5.0) << joint << " " << step;
+      EXPECT_GT(f.m.settling_s, 0) << joint << " " << step;
+      EXPECT_LT(f.m.settling_s, 3.0) << joint << " " << step;
+      EXPECT_LT(std::fabs(f.m.steady_error_rad), f.count_rad) << joint << " " << step;
+      if (joint == 2 && step > 0) {
+        EXPECT_GT(f.rest_current_a, 15.0);  // lifting the stretched arm: near stall, and it stays on
+      }
     }
   }
 }
@@ -413,22 +429,11 @@ TEST(JointsimDc, PidStepResponses) {
 TEST(JointsimDc, ParkingEndsTheHoldingCurrent) {
   for (int joint = 2; joint <= 4; ++joint) {
     for (double step : {0.2, -0.2}) {
-      DcOptions o;
-      o.joint = joint;
-      o.step_rad = step;
-      o.duration_s = 4;
-      const double held = mean_abs_current(run_dc(o), 3.5);
-      o.park_counts = 1;
-      const DcResult parked = run_dc(o);
-      const double count = dc_count_rad(joint);
-      const StepMetrics m = step_metrics(parked.rows, 0, step, std::max(0.02 * std::fabs(step), count), 0.5);
-      std::printf("J%d %+.1f rad at rest: %.1f A with the PID on; parked %.2f A, settled at %.2f s, error %.2f counts\n",
-                  joint, step, held, mean_abs_current(parked, 3.5), m.settling_s, m.steady_error_rad / count);
-      if (joint == 2 && step > 0) {
-        EXPECT_GT(held, 15.0);  // lifting the stretched arm: near stall
-      }
-      EXPECT_LT(mean_abs_current(parked, 3.5), 0.1) << joint << " " << step;
-      EXPECT_LE(std::fabs(m.steady_error_rad), 1.01 * count) << joint << " " << step;
+      const DcStepFigures f = dc_step(joint, step, 1);
+      std::printf("J%d %+.1f rad parked: %.2f A at rest, settled at %.2f s, error %.2f counts\n", joint, step,
+                  f.rest_current_a, f.m.settling_s, f.m.steady_error_rad / f.count_rad);
+      EXPECT_LT(f.rest_current_a, 0.1) << joint << " " << step;
+      EXPECT_LE(std::fabs(f.m.steady_error_rad), 1.01 * f.count_rad) << joint << " " << step;
     }
   }
 }
