@@ -1,0 +1,217 @@
+// The messages on the serial link (SPEC section 5, telemetry): what the firmware reports and
+// what a host may command, and their payloads. Every field goes on the wire little-endian,
+// byte by byte, in the order its message's fields() lists it: the same bytes on the AVR and
+// on the host, whatever either does with struct layout. docs/telemetry.md has the offsets.
+#pragma once
+
+#include <stdint.h>
+
+#include "config/modes_config.h"
+#include "protocol/frame.h"
+
+namespace wmra {
+namespace protocol {
+
+enum class MsgType : uint8_t {
+  state = 0x01, reply = 0x02, boot = 0x03,  // firmware -> host
+  cmd_stop = 0x10, cmd_rearm = 0x11, cmd_mode = 0x12, cmd_speed_scale = 0x13, cmd_home = 0x14,
+  cmd_goto_pose = 0x15, cmd_store_pose = 0x16, cmd_velocity = 0x17,  // host -> firmware
+};
+
+enum class ReplyStatus : uint8_t { ok = 0, unknown_command = 1, bad_length = 2, bad_argument = 3, refused = 4 };
+
+// BootMsg::calibration: where the firmware's calibration came from
+enum class Calibration : uint8_t { eeprom = 0, defaults_blank = 1, defaults_bad_crc = 2, defaults_other_version = 3 };
+
+constexpr uint16_t kStatePeriod_ms = 20;       // state frames at 50 Hz
+constexpr uint16_t kVelocityTimeout_ms = 100;  // the firmware stops when streamed velocity pauses this long
+constexpr uint8_t kPoseSlots = 4;              // goto_pose / store_pose slots 0..3
+constexpr uint8_t kModeValues = (uint8_t)config::Mode::gripper + 1;  // config::Mode values 0..4
+
+namespace wire {
+// Io for fields(): writes each field little-endian
+struct Put {
+  uint8_t* out;
+  uint8_t n;
+  template <class T>
+  void operator()(T v) {
+    uint32_t u = (uint32_t)v;  // shifts by whole bytes only: cheap on the AVR
+    for (uint8_t i = 0; i < sizeof(T); ++i, u >>= 8) out[n++] = (uint8_t)u;
+  }
+};
+// reads each field back (a negative field's two's complement comes back through the cast)
+struct Get {
+  const uint8_t* in;
+  uint8_t n;
+  template <class T>
+  void operator()(T& v) {
+    uint32_t u = 0;
+    for (uint8_t i = sizeof(T); i-- > 0;) u = (u << 8) | in[n + i];
+    n = (uint8_t)(n + sizeof(T));
+    v = (T)u;
+  }
+};
+// counts the bytes, at compile time
+struct Count {
+  uint8_t n;
+  template <class T>
+  constexpr void operator()(const T&) {
+    n = (uint8_t)(n + sizeof(T));
+  }
+};
+}  // namespace wire
+
+// Each message lists its fields once, in wire order, for every Io of wire:: (Self is the
+// message, const when encoding).
+struct StateMsg {  // every kStatePeriod_ms
+  uint32_t t_ms;              // since boot
+  uint8_t state;              // core::ArmState value (firmware/core/supervisor.h)
+  uint8_t mode;               // config::Mode value (firmware/config/modes_config.h)
+  uint32_t faults;            // core::FaultBit bits (firmware/core/faults.h)
+  uint8_t slowed_by;          // core::SlowReason bits (firmware/core/resolved_rate.h)
+  uint8_t reset_cause;        // MCUSR at boot: bit0 power-on, 1 external, 2 brown-out, 3 watchdog
+  uint16_t switches;          // closed limit switches: bit 2j = J(j+1) low, 2j+1 = high (J6: bit 10 its zero switch)
+  int16_t q_mrad[6];          // the firmware's joint angles (steppers from steps, DC from pots)
+  int16_t qd_mrad_s[6];       // commanded joint velocities
+  int16_t p_0p1mm[3];         // hand (frame-6 origin) position from the firmware's FK, 0.1 mm
+  int16_t stick_permille[2];  // shaped stick x, y in [-1000, 1000]
+  uint8_t speed_scale_pct;    // 0..100
+  uint16_t loop_cycles_max;   // longest control iteration since the previous state frame, CPU cycles
+  uint16_t rx_crc_errors, rx_framing_errors, rx_rejected;  // the firmware's counters (rejected = replies != ok)
+
+  static constexpr MsgType kType = MsgType::state;
+  template <class Io, class Self>
+  static constexpr void fields(Io& io, Self& m) {
+    io(m.t_ms);
+    io(m.state);
+    io(m.mode);
+    io(m.faults);
+    io(m.slowed_by);
+    io(m.reset_cause);
+    io(m.switches);
+    for (auto& v : m.q_mrad) io(v);
+    for (auto& v : m.qd_mrad_s) io(v);
+    for (auto& v : m.p_0p1mm) io(v);
+    for (auto& v : m.stick_permille) io(v);
+    io(m.speed_scale_pct);
+    io(m.loop_cycles_max);
+    io(m.rx_crc_errors);
+    io(m.rx_framing_errors);
+    io(m.rx_rejected);
+  }
+};
+
+struct ReplyMsg {  // to every command; the frame's own seq is the firmware's count
+  uint8_t command_type;  // the command's MsgType
+  uint8_t command_seq;   // the command frame's seq
+  uint8_t status;        // ReplyStatus
+
+  static constexpr MsgType kType = MsgType::reply;
+  template <class Io, class Self>
+  static constexpr void fields(Io& io, Self& m) {
+    io(m.command_type);
+    io(m.command_seq);
+    io(m.status);
+  }
+};
+
+struct BootMsg {  // once at start-up, before the first state frame
+  uint8_t reset_cause;  // MCUSR, as in StateMsg
+  uint8_t calibration;  // Calibration
+
+  static constexpr MsgType kType = MsgType::boot;
+  template <class Io, class Self>
+  static constexpr void fields(Io& io, Self& m) {
+    io(m.reset_cause);
+    io(m.calibration);
+  }
+};
+
+struct VelocityCmd {  // hand twist in the base frame; the firmware stops if none arrives for kVelocityTimeout_ms
+  int16_t v_mm_s[3];
+  int16_t w_mrad_s[3];
+
+  static constexpr MsgType kType = MsgType::cmd_velocity;
+  template <class Io, class Self>
+  static constexpr void fields(Io& io, Self& m) {
+    for (auto& v : m.v_mm_s) io(v);
+    for (auto& v : m.w_mrad_s) io(v);
+  }
+};
+
+template <class Msg>
+constexpr uint8_t payload_bytes() {
+  wire::Count count{0};
+  Msg m{};
+  Msg::fields(count, m);
+  return count.n;
+}
+
+constexpr uint8_t kStatePayloadBytes = payload_bytes<StateMsg>();
+constexpr uint8_t kVelocityPayloadBytes = payload_bytes<VelocityCmd>();
+static_assert(kStatePayloadBytes <= kMaxPayload, "a state frame fits one frame");
+// the documented layouts (docs/telemetry.md): a change here is a change of kVersion
+static_assert(kStatePayloadBytes == 57 && kVelocityPayloadBytes == 12, "payload sizes as documented");
+static_assert(payload_bytes<ReplyMsg>() == 3 && payload_bytes<BootMsg>() == 2, "payload sizes as documented");
+
+// Fills payload (room for kMaxPayload) and returns its length
+template <class Msg>
+uint8_t encode(const Msg& m, uint8_t* payload) {
+  wire::Put put{payload, 0};
+  Msg::fields(put, m);
+  return put.n;
+}
+
+// false, leaving m as it was, when the frame is not a Msg or its length is wrong
+template <class Msg>
+bool decode(const Frame& f, Msg& m) {
+  if (f.type != (uint8_t)Msg::kType || f.len != payload_bytes<Msg>()) return false;
+  wire::Get get{f.payload, 0};
+  Msg::fields(get, m);
+  return true;
+}
+
+// The whole frame of a message into out (room for kMaxFrameBytes); returns its size. The
+// payload is encoded in place, so no second buffer is needed on the AVR's stack.
+template <class Msg>
+uint8_t write_message(const Msg& m, uint8_t seq, uint8_t* out) {
+  uint8_t* payload = out + kHeaderBytes;
+  return write_frame((uint8_t)Msg::kType, seq, payload, encode(m, payload), out);
+}
+
+// Whether a command frame may be acted on: its type, its payload length, and the range of
+// its one-byte argument (mode < kModeValues, percent <= 100, slot < kPoseSlots). What the
+// arm's state allows (ReplyStatus::refused) is the firmware's to decide.
+inline ReplyStatus check_command(const Frame& f) {
+  uint8_t len = 0, limit = 0;  // payload length; the one-byte argument's bound (0: none)
+  switch ((MsgType)f.type) {
+    case MsgType::cmd_stop:
+    case MsgType::cmd_rearm:
+    case MsgType::cmd_home:
+      break;
+    case MsgType::cmd_mode:
+      len = 1;
+      limit = kModeValues;
+      break;
+    case MsgType::cmd_speed_scale:
+      len = 1;
+      limit = 101;
+      break;
+    case MsgType::cmd_goto_pose:
+    case MsgType::cmd_store_pose:
+      len = 1;
+      limit = kPoseSlots;
+      break;
+    case MsgType::cmd_velocity:
+      len = kVelocityPayloadBytes;
+      break;
+    default:
+      return ReplyStatus::unknown_command;
+  }
+  if (f.len != len) return ReplyStatus::bad_length;
+  if (limit && f.payload[0] >= limit) return ReplyStatus::bad_argument;
+  return ReplyStatus::ok;
+}
+
+}  // namespace protocol
+}  // namespace wmra

@@ -1,0 +1,371 @@
+// firmware/protocol: the CRC against its published check value and the textbook bitwise
+// definition, the wire layout of every message (the offsets docs/telemetry.md gives), and the
+// parser against split, corrupted, truncated and random input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "protocol/messages.h"
+
+using namespace wmra::protocol;
+
+namespace {
+
+// CRC-16/CCITT-FALSE as its definition reads: MSB first, one bit at a time
+uint16_t crc_bitwise(const uint8_t* bytes, size_t n) {
+  uint16_t crc = 0xFFFF;
+  for (size_t i = 0; i < n; ++i) {
+    crc ^= (uint16_t)(bytes[i] << 8);
+    for (int b = 0; b < 8; ++b) crc = (uint16_t)(crc & 0x8000 ? (crc << 1) ^ 0x1021 : crc << 1);
+  }
+  return crc;
+}
+
+std::vector<uint8_t> frame_bytes(uint8_t type, uint8_t seq, const std::vector<uint8_t>& payload) {
+  std::vector<uint8_t> out(payload.size() + kFrameOverhead);
+  out.resize(write_frame(type, seq, payload.data(), (uint8_t)payload.size(), out.data()));
+  return out;
+}
+
+template <class Msg>
+std::vector<uint8_t> message_bytes(const Msg& m, uint8_t seq) {
+  std::vector<uint8_t> out(kMaxFrameBytes);
+  out.resize(write_message(m, seq, out.data()));
+  return out;
+}
+
+// feeds bytes; returns every frame completed
+std::vector<Frame> feed_all(Parser& p, const std::vector<uint8_t>& bytes) {
+  std::vector<Frame> frames;
+  for (uint8_t b : bytes) {
+    if (p.feed(b)) frames.push_back(p.frame());
+  }
+  return frames;
+}
+
+std::vector<uint8_t> cat(std::vector<std::vector<uint8_t>> parts) {
+  std::vector<uint8_t> out;
+  for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
+  return out;
+}
+
+StateMsg sample_state() {
+  StateMsg s{};
+  s.t_ms = 0x04030201u;
+  s.state = 4;
+  s.mode = 1;
+  s.faults = 0x80020008u;
+  s.slowed_by = 5;
+  s.reset_cause = 8;
+  s.switches = 0x0401;
+  const int16_t q[6] = {-1, 32767, -32768, 1571, -2, 12};
+  for (int j = 0; j < 6; ++j) {
+    s.q_mrad[j] = q[j];
+    s.qd_mrad_s[j] = (int16_t)(-100 * j - 7);
+  }
+  s.p_0p1mm[0] = 10770;
+  s.p_0p1mm[1] = -123;
+  s.p_0p1mm[2] = 1870;
+  s.stick_permille[0] = -1000;
+  s.stick_permille[1] = 999;
+  s.speed_scale_pct = 100;
+  s.loop_cycles_max = 0xBEEF;
+  s.rx_crc_errors = 1;
+  s.rx_framing_errors = 0xFFFF;
+  s.rx_rejected = 0x1234;
+  return s;
+}
+
+uint16_t le16(const uint8_t* p) { return (uint16_t)(p[0] | p[1] << 8); }
+
+}  // namespace
+
+TEST(Crc, CheckValueAndBitwiseDefinition) {
+  const uint8_t check[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+  uint16_t crc = kCrcInit;
+  for (uint8_t b : check) crc = crc16_update(crc, b);
+  EXPECT_EQ(crc, 0x29B1);
+  EXPECT_EQ(crc_bitwise(check, sizeof check), 0x29B1);
+  // every byte from every 16th register value: the nibble form is the bitwise one
+  for (uint32_t reg = 0; reg <= 0xFFFF; reg += 16) {
+    for (uint32_t b = 0; b < 256; ++b) {
+      uint16_t ref = (uint16_t)(reg ^ (b << 8));
+      for (int i = 0; i < 8; ++i) ref = (uint16_t)(ref & 0x8000 ? (ref << 1) ^ 0x1021 : ref << 1);
+      ASSERT_EQ(crc16_update((uint16_t)reg, (uint8_t)b), ref) << reg << " " << b;
+    }
+  }
+}
+
+TEST(Frame, LayoutAndCrcLittleEndian) {
+  const std::vector<uint8_t> f = frame_bytes(0x12, 7, {0x01});
+  ASSERT_EQ(f.size(), 8u);
+  EXPECT_EQ(f[0], 0xA5);
+  EXPECT_EQ(f[1], 1);
+  EXPECT_EQ(f[2], 0x12);
+  EXPECT_EQ(f[3], 7);
+  EXPECT_EQ(f[4], 1);
+  EXPECT_EQ(f[5], 0x01);
+  EXPECT_EQ(le16(&f[6]), crc_bitwise(&f[1], 5));  // not over the sync byte
+  EXPECT_EQ(frame_bytes(0x10, 0, {}).size(), 7u);
+
+  std::vector<uint8_t> big(kMaxPayload + 1, 0x55), out(kMaxPayload + 1 + kFrameOverhead, 0xEE);
+  EXPECT_EQ(write_frame(1, 0, big.data(), kMaxPayload + 1, out.data()), 0);
+  EXPECT_EQ(out[0], 0xEE);  // nothing written
+  EXPECT_EQ(write_frame(1, 0, big.data(), kMaxPayload, out.data()), kMaxFrameBytes);
+}
+
+TEST(Messages, StateOffsetsAsDocumented) {
+  EXPECT_EQ(kStatePayloadBytes, 57);
+  uint8_t p[kMaxPayload];
+  ASSERT_EQ(encode(sample_state(), p), kStatePayloadBytes);
+  EXPECT_EQ(p[0], 0x01);  // t_ms, little-endian
+  EXPECT_EQ(p[3], 0x04);
+  EXPECT_EQ(p[4], 4);     // state
+  EXPECT_EQ(p[5], 1);     // mode
+  EXPECT_EQ(p[6], 0x08);  // faults
+  EXPECT_EQ(p[9], 0x80);
+  EXPECT_EQ(p[10], 5);    // slowed_by
+  EXPECT_EQ(p[11], 8);    // reset_cause
+  EXPECT_EQ(le16(p + 12), 0x0401);  // switches
+  EXPECT_EQ(le16(p + 14), 0xFFFF);  // q_mrad[0] = -1
+  EXPECT_EQ(le16(p + 16), 0x7FFF);
+  EXPECT_EQ(le16(p + 18), 0x8000);
+  EXPECT_EQ((int16_t)le16(p + 26), -7);     // qd_mrad_s[0]
+  EXPECT_EQ((int16_t)le16(p + 36), -507);   // qd_mrad_s[5]
+  EXPECT_EQ((int16_t)le16(p + 38), 10770);  // p_0p1mm
+  EXPECT_EQ((int16_t)le16(p + 42), 1870);
+  EXPECT_EQ((int16_t)le16(p + 44), -1000);  // stick_permille
+  EXPECT_EQ((int16_t)le16(p + 46), 999);
+  EXPECT_EQ(p[48], 100);                    // speed_scale_pct
+  EXPECT_EQ(le16(p + 49), 0xBEEF);          // loop_cycles_max
+  EXPECT_EQ(le16(p + 51), 1);               // rx_crc_errors
+  EXPECT_EQ(le16(p + 53), 0xFFFF);          // rx_framing_errors
+  EXPECT_EQ(le16(p + 55), 0x1234);          // rx_rejected
+}
+
+TEST(Messages, OtherPayloadsAsDocumented) {
+  uint8_t p[kMaxPayload];
+  ASSERT_EQ(encode(ReplyMsg{0x12, 9, 3}, p), 3);
+  EXPECT_EQ(p[0], 0x12);
+  EXPECT_EQ(p[1], 9);
+  EXPECT_EQ(p[2], 3);
+  ASSERT_EQ(encode(BootMsg{8, 2}, p), 2);
+  EXPECT_EQ(p[0], 8);
+  EXPECT_EQ(p[1], 2);
+  ASSERT_EQ(encode(VelocityCmd{{150, -150, 0}, {800, -1, 32767}}, p), 12);
+  EXPECT_EQ(le16(p), 150);
+  EXPECT_EQ((int16_t)le16(p + 2), -150);
+  EXPECT_EQ(le16(p + 6), 800);
+  EXPECT_EQ((int16_t)le16(p + 8), -1);
+  EXPECT_EQ(le16(p + 10), 32767);
+}
+
+TEST(Messages, RoundTripThroughTheParser) {
+  Parser parser;
+  const StateMsg state = sample_state();
+  const ReplyMsg reply{0x17, 200, 4};
+  const BootMsg boot{0x0F, 3};
+  const VelocityCmd velocity{{-32768, 32767, 1}, {-800, 0, 5}};
+  const auto frames = feed_all(parser, cat({message_bytes(state, 255), message_bytes(reply, 0), message_bytes(boot, 1),
+                                           message_bytes(velocity, 2)}));
+  ASSERT_EQ(frames.size(), 4u);
+  StateMsg s;
+  ReplyMsg r;
+  BootMsg b;
+  VelocityCmd v;
+  ASSERT_TRUE(decode(frames[0], s));
+  EXPECT_EQ(frames[0].seq, 255);
+  EXPECT_EQ(s.t_ms, state.t_ms);
+  EXPECT_EQ(s.state, state.state);
+  EXPECT_EQ(s.mode, state.mode);
+  EXPECT_EQ(s.faults, state.faults);
+  EXPECT_EQ(s.slowed_by, state.slowed_by);
+  EXPECT_EQ(s.reset_cause, state.reset_cause);
+  EXPECT_EQ(s.switches, state.switches);
+  EXPECT_TRUE(std::equal(s.q_mrad, s.q_mrad + 6, state.q_mrad));
+  EXPECT_TRUE(std::equal(s.qd_mrad_s, s.qd_mrad_s + 6, state.qd_mrad_s));
+  EXPECT_TRUE(std::equal(s.p_0p1mm, s.p_0p1mm + 3, state.p_0p1mm));
+  EXPECT_TRUE(std::equal(s.stick_permille, s.stick_permille + 2, state.stick_permille));
+  EXPECT_EQ(s.speed_scale_pct, state.speed_scale_pct);
+  EXPECT_EQ(s.loop_cycles_max, state.loop_cycles_max);
+  EXPECT_EQ(s.rx_crc_errors, state.rx_crc_errors);
+  EXPECT_EQ(s.rx_framing_errors, state.rx_framing_errors);
+  EXPECT_EQ(s.rx_rejected, state.rx_rejected);
+  ASSERT_TRUE(decode(frames[1], r));
+  EXPECT_EQ(r.command_type, 0x17);
+  EXPECT_EQ(r.command_seq, 200);
+  EXPECT_EQ(r.status, 4);
+  ASSERT_TRUE(decode(frames[2], b));
+  EXPECT_EQ(b.reset_cause, 0x0F);
+  EXPECT_EQ(b.calibration, 3);
+  ASSERT_TRUE(decode(frames[3], v));
+  EXPECT_EQ(v.v_mm_s[0], -32768);
+  EXPECT_EQ(v.v_mm_s[1], 32767);
+  EXPECT_EQ(v.w_mrad_s[0], -800);
+  EXPECT_EQ(v.w_mrad_s[2], 5);
+  EXPECT_EQ(parser.crc_errors() + parser.framing_errors() + parser.skipped_bytes(), 0);
+}
+
+TEST(Messages, DecodeRefusesAnotherTypeOrLength) {
+  Frame f{};
+  f.type = (uint8_t)MsgType::reply;
+  f.len = 3;
+  BootMsg boot{7, 7};
+  EXPECT_FALSE(decode(f, boot));  // a reply is not a boot message
+  EXPECT_EQ(boot.reset_cause, 7);  // untouched
+  ReplyMsg reply;
+  EXPECT_TRUE(decode(f, reply));
+  f.len = 4;
+  EXPECT_FALSE(decode(f, reply));
+  f.type = (uint8_t)MsgType::state;
+  f.len = kStatePayloadBytes - 1;
+  StateMsg state;
+  EXPECT_FALSE(decode(f, state));
+}
+
+TEST(Parser, FramesSplitAtEveryByteBoundary) {
+  const auto a = message_bytes(sample_state(), 1);
+  const auto b = frame_bytes((uint8_t)MsgType::cmd_stop, 2, {});
+  const auto c = message_bytes(ReplyMsg{0x12, 3, 0}, 3);
+  const auto stream = cat({a, b, c});
+  for (size_t split = 0; split <= stream.size(); ++split) {
+    Parser p;
+    const auto first = feed_all(p, std::vector<uint8_t>(stream.begin(), stream.begin() + split));
+    // only the frames wholly inside the first part are complete
+    const size_t whole = (split >= a.size()) + (split >= a.size() + b.size()) + (split == stream.size());
+    ASSERT_EQ(first.size(), whole) << split;
+    auto frames = first;
+    for (const Frame& f : feed_all(p, std::vector<uint8_t>(stream.begin() + split, stream.end()))) frames.push_back(f);
+    ASSERT_EQ(frames.size(), 3u) << split;
+    EXPECT_EQ(frames[0].type, (uint8_t)MsgType::state);
+    EXPECT_EQ(frames[1].seq, 2);
+    EXPECT_EQ(frames[2].len, 3);
+    EXPECT_EQ(p.crc_errors() + p.framing_errors() + p.skipped_bytes(), 0) << split;
+  }
+}
+
+TEST(Parser, EveryFlippedBitIsRejectedAndCounted) {
+  const auto good = message_bytes(ReplyMsg{0x13, 4, 0}, 9);
+  std::vector<uint8_t> tail;  // valid frames after it
+  for (int i = 0; i < 12; ++i) tail = cat({tail, good});
+  for (size_t bit = 0; bit < 8 * good.size(); ++bit) {
+    auto bad = good;
+    bad[bit / 8] ^= (uint8_t)(1u << (bit % 8));
+    Parser p;
+    EXPECT_TRUE(feed_all(p, bad).empty()) << bit;
+    // A length made longer may still be waiting for its bytes. One flipped bit makes the
+    // length 3 at most 35 (or > kMaxPayload: a framing error), so the bad frame swallows at
+    // most 32 bytes of the tail: three of its 10-byte frames, and the one it ends inside.
+    const auto after = feed_all(p, tail);
+    EXPECT_GE(after.size(), 8u) << bit;
+    EXPECT_GE(p.crc_errors() + p.framing_errors() + p.skipped_bytes(), 1) << bit;
+    for (const Frame& f : after) {
+      EXPECT_EQ(frame_bytes(f.type, f.seq, std::vector<uint8_t>(f.payload, f.payload + f.len)), good) << bit;
+    }
+  }
+}
+
+TEST(Parser, GarbageThenAValidFrame) {
+  Parser p;
+  // plain noise, a stray sync, a sync with a wrong version, a sync then a repeated sync
+  const std::vector<uint8_t> garbage = {0x00, 0xFF, 0x13, 0xA5, 0x02, 0x77, 0xA5, 0xA5};
+  const auto frames = feed_all(p, cat({garbage, message_bytes(BootMsg{1, 0}, 0)}));
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].type, (uint8_t)MsgType::boot);
+  EXPECT_EQ(p.skipped_bytes(), 6);   // 00 ff 13 77, and the two syncs before the frame's own
+  EXPECT_EQ(p.framing_errors(), 1);  // version 2
+  EXPECT_EQ(p.crc_errors(), 0);
+}
+
+TEST(Parser, LengthBeyondMaxPayloadIsAFramingError) {
+  Parser p;
+  const std::vector<uint8_t> too_long = {0xA5, 0x01, 0x01, 0x00, kMaxPayload + 1};
+  const auto frames = feed_all(p, cat({too_long, message_bytes(ReplyMsg{}, 1)}));
+  EXPECT_EQ(p.framing_errors(), 1);
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].type, (uint8_t)MsgType::reply);
+  // a length of exactly kMaxPayload is fine
+  Parser q;
+  EXPECT_EQ(feed_all(q, frame_bytes(0x40, 0, std::vector<uint8_t>(kMaxPayload, 0xA5))).size(), 1u);
+  EXPECT_EQ(q.framing_errors(), 0);
+}
+
+TEST(Parser, AByteLostCostsOnlyItsFrame) {
+  // the lost byte makes the parser take the next frame's sync as the CRC's high byte: the
+  // CRC fails and that sync starts the next frame
+  auto a = message_bytes(sample_state(), 1);
+  a.erase(a.begin() + 20);
+  Parser p;
+  const auto frames = feed_all(p, cat({a, message_bytes(sample_state(), 2)}));
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].seq, 2);
+  EXPECT_EQ(p.crc_errors(), 1);
+}
+
+TEST(Parser, OneMegabyteOfRandomBytes) {
+  std::mt19937 rng(20240501u);
+  std::vector<uint8_t> bytes(1u << 20);
+  for (auto& b : bytes) b = (uint8_t)rng();
+  Parser p;
+  int valid = 0;
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    if (!p.feed(bytes[i])) continue;
+    ++valid;
+    // a frame the parser accepts is really in the stream, ending here, with a correct CRC
+    const Frame& f = p.frame();
+    const size_t size = f.len + kFrameOverhead;
+    ASSERT_GE(i + 1, size);
+    const uint8_t* start = &bytes[i + 1 - size];
+    EXPECT_EQ(frame_bytes(f.type, f.seq, std::vector<uint8_t>(f.payload, f.payload + f.len)),
+              std::vector<uint8_t>(start, start + size));
+    EXPECT_EQ(le16(start + size - 2), crc_bitwise(start + 1, size - 3));
+  }
+  // a sync (1/256), version 1 (1/256), a length <= 64 (1/4) and the CRC (1/65536) by chance:
+  // about 4 candidate frames per MB and 6e-5 valid ones
+  EXPECT_LE(valid, 1);
+  EXPECT_GE(p.crc_errors(), 1);
+  EXPECT_LE(p.crc_errors(), 20);
+  // most syncs are followed by a wrong version
+  EXPECT_GT(p.framing_errors(), 3500);
+  EXPECT_LT(p.framing_errors(), 4700);
+  EXPECT_EQ(p.skipped_bytes(), 0xFFFF);  // saturated, not wrapped
+}
+
+TEST(Commands, CheckCommand) {
+  auto check = [](MsgType type, std::vector<uint8_t> payload) {
+    Frame f{};
+    f.type = (uint8_t)type;
+    f.len = (uint8_t)payload.size();
+    std::copy(payload.begin(), payload.end(), f.payload);
+    return check_command(f);
+  };
+  using S = ReplyStatus;
+  for (MsgType t : {MsgType::cmd_stop, MsgType::cmd_rearm, MsgType::cmd_home}) {
+    EXPECT_EQ(check(t, {}), S::ok);
+    EXPECT_EQ(check(t, {0}), S::bad_length);
+  }
+  EXPECT_EQ(check(MsgType::cmd_mode, {0}), S::ok);
+  EXPECT_EQ(check(MsgType::cmd_mode, {4}), S::ok);  // gripper
+  EXPECT_EQ(check(MsgType::cmd_mode, {5}), S::bad_argument);
+  EXPECT_EQ(check(MsgType::cmd_mode, {}), S::bad_length);
+  EXPECT_EQ(check(MsgType::cmd_mode, {1, 0}), S::bad_length);
+  EXPECT_EQ(check(MsgType::cmd_speed_scale, {0}), S::ok);
+  EXPECT_EQ(check(MsgType::cmd_speed_scale, {100}), S::ok);
+  EXPECT_EQ(check(MsgType::cmd_speed_scale, {101}), S::bad_argument);
+  EXPECT_EQ(check(MsgType::cmd_speed_scale, {255}), S::bad_argument);
+  EXPECT_EQ(check(MsgType::cmd_speed_scale, {}), S::bad_length);
+  for (MsgType t : {MsgType::cmd_goto_pose, MsgType::cmd_store_pose}) {
+    EXPECT_EQ(check(t, {0}), S::ok);
+    EXPECT_EQ(check(t, {3}), S::ok);
+    EXPECT_EQ(check(t, {4}), S::bad_argument);
+    EXPECT_EQ(check(t, {}), S::bad_length);
+  }
+  EXPECT_EQ(check(MsgType::cmd_velocity, std::vector<uint8_t>(12, 0xFF)), S::ok);
+  EXPECT_EQ(check(MsgType::cmd_velocity, std::vector<uint8_t>(11, 0)), S::bad_length);
+  EXPECT_EQ(check(MsgType::cmd_velocity, std::vector<uint8_t>(13, 0)), S::bad_length);
+  // not commands: the firmware's own types, the gaps around the command range
+  for (uint8_t t : {0x00, 0x01, 0x02, 0x03, 0x0F, 0x18, 0xFF}) EXPECT_EQ(check((MsgType)t, {}), S::unknown_command) << (int)t;
+}
