@@ -7,12 +7,12 @@
 // the same names.
 //
 // Timer plan (one timer group per job, checked below):
-//   Timer5  step generation: the three STEP pins are OC5A/B/C (normal mode, 2 MHz tick)
+//   Timer5  step generation: the three STEP pins are OC5A/B/C (normal mode, 250 kHz tick)
 //   Timer4  BTS7960 PWM: J3 L (OC4A), J3 R (OC4B), J2 L (OC4C), 20 kHz
 //   Timer3  BTS7960 PWM: J4 R (OC3A), 20 kHz
 //   Timer2  BTS7960 PWM: J2 R (OC2B), 20 kHz (OCR2A is the TOP, so OC2A is not used)
 //   Timer0  BTS7960 PWM: J4 L (OC0B), 20 kHz (OCR0A is the TOP, so OC0A is not used)
-//   Timer1  the 1 kHz system tick and the gripper servo pulse on OC1C (D13)
+//   Timer1  the 1 kHz system tick and the gripper servo pulse on OC1C (D13), normal mode, 2 MHz
 // The BTS7960 takes PWM up to 25 kHz; the 8-bit timers reach 20 kHz only with a TOP of 99,
 // so the L/R sides of J2 and J4 have 100 duty steps on one side and 800 on the other.
 #pragma once

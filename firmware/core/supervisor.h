@@ -2,12 +2,14 @@
 // what the drivers and the other blocks report each control tick, outputs say what may move.
 //
 //   boot -> wait_neutral -> homing -> to_ready -> running
-//   any state -> stopped  while the safety button is pressed (latched: re-arm after release)
+//   any state -> stopped  while the safety button is pressed, or on a stop command (latched:
+//                         re-arm after release)
 //   any state -> fault    on a fault (latched: re-arm once the fault has cleared)
 // Re-arming (a long press or the serial command) from stopped or fault goes back to
 // wait_neutral, so nothing moves until the stick has been seen neutral again; the steppers
 // were never powered off without the supervisor knowing, so they are re-homed only if they
 // had not finished homing. A short press in running cycles the modes of config::kModeCycle.
+// A home command forgets the homing and, from running, goes back through wait_neutral.
 // The stick must be neutral for kNeutralHold_ms before any motion is enabled; a stick that
 // is not valid (at a rail: unplugged or broken) counts as not neutral.
 #pragma once
@@ -43,6 +45,8 @@ struct SupervisorInputs {
   bool short_press;     // one-tick events from the button logic
   bool long_press;
   bool rearm_command;  // from the serial link
+  bool stop_command;
+  bool home_command;
   bool homed;          // every stepper has found its switch
   bool at_ready;       // the move to the ready pose has arrived
 };
@@ -60,9 +64,23 @@ class Supervisor {
   // the stick may command the hand
   bool stick_enabled() const { return state_ == ArmState::running; }
 
+  // a mode of the cycle, chosen directly (serial command); false if it is not in the cycle or
+  // the arm is not running
+  bool select_mode(config::Mode m) {
+    if (state_ != ArmState::running) return false;
+    for (uint8_t i = 0; i < config::kModeCount; ++i) {
+      if (config::kModeCycle[i] == m) {
+        mode_index_ = i;
+        return true;
+      }
+    }
+    return false;
+  }
+
   // one control tick of dt_ms milliseconds
   void update(const SupervisorInputs& in, uint16_t dt_ms) {
-    if (in.safety_pressed) {
+    if (in.home_command) homed_ = false;
+    if (in.safety_pressed || in.stop_command) {
       state_ = ArmState::stopped;
       return;
     }
@@ -77,16 +95,24 @@ class Supervisor {
         state_ = ArmState::wait_neutral;
         break;
       case ArmState::wait_neutral:
-        if (neutral_ms_ >= kNeutralHold_ms) state_ = in.homed ? ArmState::running : ArmState::homing;
+        if (neutral_ms_ >= kNeutralHold_ms) state_ = in.homed && homed_ ? ArmState::running : ArmState::homing;
         break;
       case ArmState::homing:
-        if (in.homed) state_ = ArmState::to_ready;
+        if (in.homed) {
+          state_ = ArmState::to_ready;
+          homed_ = true;
+        }
         break;
       case ArmState::to_ready:
         if (in.at_ready) state_ = ArmState::running;
         break;
       case ArmState::running:
-        if (in.short_press) mode_index_ = (uint8_t)((mode_index_ + 1) % config::kModeCount);
+        if (in.home_command) {
+          state_ = ArmState::wait_neutral;
+          neutral_ms_ = 0;
+        } else if (in.short_press) {
+          mode_index_ = (uint8_t)((mode_index_ + 1) % config::kModeCount);
+        }
         break;
       case ArmState::stopped:
       case ArmState::fault:
@@ -104,6 +130,7 @@ class Supervisor {
   ArmState state_ = ArmState::boot;
   uint8_t mode_index_ = 0;
   uint16_t neutral_ms_ = 0;
+  bool homed_ = true;  // false after a home command, until homing has finished again
 };
 
 }  // namespace core

@@ -113,18 +113,22 @@ template <class N> constexpr typename N::Length ArmConstants<N>::a4;
 template <class N> constexpr typename N::Length ArmConstants<N>::d1;
 template <class N> constexpr typename N::Length ArmConstants<N>::d6;
 
+// the frame-6 origin alone (the firmware's drift correction needs no rotation)
 template <class N, class Trig>
-Pose<N> forward_kinematics(const Trig& t) {
+Vec3<typename N::Real> hand_position(const Trig& t) {
   using K = ArmConstants<N>;
   static constexpr typename N::Unit d6 = N::unit(arm::d6);
   const auto L = K::a4 + t.c5 * K::d6;
   const auto r = K::a1 + t.c2 * K::a2 + t.c23 * K::a3 + t.c234 * L;
   const auto s5d6 = t.s5 * d6;  // the wrist's sideways offset, < 0.2 m: a Unit is precise enough
+  return {t.c1 * r + N::to_real(t.s1 * s5d6), t.s1 * r - N::to_real(t.c1 * s5d6),
+          K::d1 + t.s2 * K::a2 + t.s23 * K::a3 + t.s234 * L};
+}
 
+template <class N, class Trig>
+Pose<N> forward_kinematics(const Trig& t) {
   Pose<N> pose;
-  pose.p_m.x = t.c1 * r + N::to_real(t.s1 * s5d6);
-  pose.p_m.y = t.s1 * r - N::to_real(t.c1 * s5d6);
-  pose.p_m.z = K::d1 + t.s2 * K::a2 + t.s23 * K::a3 + t.s234 * L;
+  pose.p_m = hand_position<N>(t);
 
   // columns n, o, a of 0R6 (seed2-digest 4.1), sharing the wrist terms
   const auto c234s5 = t.c234 * t.s5;

@@ -4,7 +4,7 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "wiring/atmega2560.h"
+#include "atmega2560.h"
 #include "wiring/timer_decode.h"
 #include "avr_adc.h"
 #include "avr_ioport.h"

@@ -1,7 +1,7 @@
-// Facts of the ATmega2560 that the simulator needs to read the firmware's registers from
-// outside: data-space addresses (avr->data[...]) of the ports and timers, the vector table.
-// (The pin map is not here: it is boards/wmra_mega/board.h.) Plain C++14: the AVR test images
-// of test/sim_plant use it too.
+// Facts of the ATmega2560 shared by every board on it: data-space addresses of the ports and
+// timers, and the vector table. The drivers (lib/drivers) turn a board's pins into register
+// accesses with them; the simulator reads the firmware's registers from outside (avr->data[...])
+// with the same numbers. (A board's pin map is in its own folder.) Plain C++14.
 #pragma once
 
 #include <stdint.h>

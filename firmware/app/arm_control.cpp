@@ -1,0 +1,474 @@
+#include "app/arm_control.h"
+
+#include "app/settings.h"
+#include "config/control_config.h"
+#include "config/joints_config.h"
+#include "control/button.h"
+#include "control/joystick.h"
+#include "core/dc_servo.h"
+#include "core/faults.h"
+#include "core/homing.h"
+#include "core/joint_map.h"
+#include "core/resolved_rate.h"
+#include "core/stick_twist.h"
+#include "drivers/adc_scan.h"
+#include "drivers/bridges.h"
+#include "drivers/inputs.h"
+#include "drivers/steppers.h"
+#include "drivers/system_tick.h"
+#include "kinematics/forward_kinematics.h"
+#include "wmra_mega/board.h"
+
+namespace wmra {
+namespace app {
+
+namespace {
+
+using kin::Fixed;
+using namespace config;
+
+// --- joints and their drives
+constexpr uint8_t kStepperJoint[3] = {0, 4, 5};  // J1, J5, J6: steppers::ramp(i)
+constexpr uint8_t kDcJoint[3] = {1, 2, 3};       // J2, J3, J4: bridges::set(d)
+constexpr uint8_t kAdcOrder[5] = {board::kAdcJoystickX, board::kAdcJoystickY, board::kAdcPotJ2, board::kAdcPotJ3,
+                                  board::kAdcPotJ4};
+constexpr double kTwoPi = 2 * core::kPi;
+
+constexpr core::StepperMap kStepperMap[3] = {core::StepperMap::make(kStepsPerJointTurn[0]),
+                                              core::StepperMap::make(kStepsPerJointTurn[1]),
+                                              core::StepperMap::make(kStepsPerJointTurn[2])};
+constexpr int32_t steps_of(uint8_t i, double turns) { return (int32_t)(turns * kStepsPerJointTurn[i] + (turns < 0 ? -0.5 : 0.5)); }
+constexpr int32_t steps_per_s(uint8_t i, int16_t crad_s) { return steps_of(i, crad_s / 100.0 / kTwoPi); }
+constexpr int32_t steps_of_deg(uint8_t i, int16_t deg) { return steps_of(i, deg / 360.0); }
+
+constexpr core::MotionLimits kLimits = core::motion_limits();
+
+constexpr control::StepRampConfig kRampConfig[3] = {{steps_per_s(0, kStepperAccel_crad_s2[0]), kStepMinInterval_ticks},
+                                                    {steps_per_s(1, kStepperAccel_crad_s2[1]), kStepMinInterval_ticks},
+                                                    {steps_per_s(2, kStepperAccel_crad_s2[2]), kStepMinInterval_ticks}};
+static_assert(control::step_ramp_constants(steppers::kTickHz, kRampConfig[0]).status == control::RampStatus::ok &&
+                  control::step_ramp_constants(steppers::kTickHz, kRampConfig[1]).status == control::RampStatus::ok &&
+                  control::step_ramp_constants(steppers::kTickHz, kRampConfig[2]).status == control::RampStatus::ok,
+              "a stepper's acceleration or top speed does not fit its ramp (lib/control/step_ramp.h)");
+
+constexpr int16_t permille_q15(int16_t permille) { return (int16_t)((int32_t)permille * 32767 / 1000); }
+
+// switch bits (inputs.h): 2j low, 2j+1 high; J6's zero switch is passed in normal motion
+constexpr uint16_t kSwitchesArmed = 0x3FF;
+constexpr uint16_t kHomingSwitch[3] = {1u << 1, 1u << 8, inputs::kJ6ZeroSwitch};  // J1 high, J5 low, J6 zero
+constexpr uint16_t kSwitchesArmedHoming = kSwitchesArmed & ~(1u << 1) & ~(1u << 8);
+static_assert(kHomingDir[0] > 0 && kHomingDir[1] < 0, "J1 homes to its high switch, J5 to its low one");
+
+// --- state
+core::Supervisor g_supervisor;
+core::ArmState g_prev_state = core::ArmState::boot;
+control::Joystick g_stick;
+control::Button g_button;
+core::DcServo g_servo[3];
+core::PotMap g_pot[3];
+int32_t g_dc_units[3];  // measured, ADC counts x 16
+int32_t g_lag_slow_units[3], g_lag_stop_units[3], g_lag_fault_units[3];
+int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
+core::StepperHoming g_homing[3];
+core::AngleAccumulator g_q[6];  // joint references
+fx::Real g_qd[6];
+kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
+uint32_t g_faults;            // latched
+uint16_t g_ms;
+bool g_homed;
+bool g_at_target;
+bool g_moving;  // a joint move in running (to a stored pose)
+fx::Angle g_target[6];
+fx::Unit g_speed_scale{(int16_t)fx::kUnitOne};
+int32_t g_gripper_us_q15;  // pulse width, us x 32768
+Settings* g_settings;
+Status g_status;
+
+// --- drives on and off
+
+void drives_off() {
+  steppers::kill();
+  bridges::all_off();
+  for (uint8_t i = 0; i < 3; ++i) {
+    steppers::Command c(i);
+    c.ramp().halt();
+    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(c.ramp().position_steps()));
+  }
+  for (uint8_t d = 0; d < 3; ++d) {
+    g_servo[d].rest(g_dc_units[d]);
+    g_q[kDcJoint[d]].set(g_pot[d].angle(g_dc_units[d]));
+  }
+  for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
+}
+
+void drives_on() {
+  for (uint8_t d = 0; d < 3; ++d) {
+    g_servo[d].rest(g_dc_units[d]);
+    g_q[kDcJoint[d]].set(g_pot[d].angle(g_dc_units[d]));
+  }
+  for (uint8_t i = 0; i < 3; ++i) g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::ramp(i).position_steps()));
+  steppers::enable_drivers(true);
+}
+
+// --- joint-space moves (to the ready pose, to a stored pose)
+
+void begin_move(const int32_t* angles) {
+  for (uint8_t j = 0; j < 6; ++j) g_target[j].raw = angles[j];
+  for (uint8_t i = 0; i < 3; ++i) {
+    const uint8_t j = kStepperJoint[i];
+    const int32_t speed = steps_per_s(i, (int16_t)(kJointSpeedLimit_crad_s[j] * kJointMoveSpeed.num / kJointMoveSpeed.den));
+    steppers::Command c(i);
+    c.ramp().move_to(kStepperMap[i].steps(g_target[j]), (uint32_t)speed);
+  }
+  g_at_target = false;
+}
+
+void move_tick() {
+  bool arrived = true;
+  for (uint8_t i = 0; i < 3; ++i) {
+    const int32_t position = steppers::ramp(i).position_steps();
+    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(position));
+    if (steppers::running(i) || position != kStepperMap[i].steps(g_target[kStepperJoint[i]])) arrived = false;
+  }
+  constexpr int32_t kTolerance = (int32_t)(kArrivedTolerance_mdeg / 1000.0 / 360.0 * fx::kAngleTurn);
+  for (uint8_t d = 0; d < 3; ++d) {
+    const uint8_t j = kDcJoint[d];
+    const int32_t max_step = (int32_t)(kJointSpeedLimit_crad_s[j] / 100.0 * kJointMoveSpeed.num / kJointMoveSpeed.den *
+                                       core::kAngleCountsPerRad / kLoopHz) + 1;
+    int32_t step = g_target[j].raw - g_q[j].angle.raw;
+    if (step > max_step) step = max_step;
+    if (step < -max_step) step = -max_step;
+    g_q[j].set(fx::Angle{g_q[j].angle.raw + step});
+    const int32_t error = g_pot[d].angle(g_dc_units[d]).raw - g_target[j].raw;
+    if (g_q[j].angle.raw != g_target[j].raw || error > kTolerance || error < -kTolerance) arrived = false;
+  }
+  g_at_target = arrived;
+}
+
+// --- homing
+
+void homing_tick(uint16_t switches) {
+  bool all_done = true;
+  for (uint8_t i = 0; i < 3; ++i) {
+    {
+      steppers::Command c(i);
+      g_homing[i].update((switches & kHomingSwitch[i]) != 0, steppers::running(i), c.ramp());
+    }
+    if (g_homing[i].failed()) g_faults |= core::fault_mask(core::kFaultBitHomingFailed);
+    if (!g_homing[i].done()) all_done = false;
+    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::ramp(i).position_steps()));
+  }
+  g_homed = all_done;
+}
+
+// --- resolved rate
+
+// how much the DC joints' lag allows: 1 up to the slow-down lag, 0 at the stop lag
+fx::Unit tracking_factor() {
+  int32_t f = fx::kUnitOne;
+  for (uint8_t d = 0; d < 3; ++d) {
+    int32_t lag = g_pot[d].units(g_q[kDcJoint[d]].angle) - g_dc_units[d];
+    if (lag < 0) lag = -lag;
+    if (lag <= g_lag_slow_units[d]) continue;
+    const int32_t fd = lag >= g_lag_stop_units[d] ? 0 : (g_lag_stop_units[d] - lag) * g_lag_inverse[d];
+    if (fd < f) f = fd;
+  }
+  return fx::Unit{(int16_t)(f > fx::kUnitOne ? fx::kUnitOne : f)};
+}
+
+fx::Real clamp_real(fx::Real r, int32_t limit) {
+  return fx::Real{r.raw > limit ? limit : r.raw < -limit ? -limit : r.raw};
+}
+
+kin::Twist<Fixed> velocity_twist(const Requests& rq) {
+  constexpr int32_t kRealPerMilli = 8389;  // Q23 per 1/1000 (m/s from mm/s, rad/s from mrad/s)
+  constexpr int32_t kHand = fx::real(kMaxHandSpeed_m_s).raw, kWrist = fx::real(kMaxWristSpeed_rad_s).raw;
+  kin::Twist<Fixed> t;
+  t.v_m_s = {clamp_real(fx::Real{rq.v_mm_s[0] * kRealPerMilli}, kHand), clamp_real(fx::Real{rq.v_mm_s[1] * kRealPerMilli}, kHand),
+             clamp_real(fx::Real{rq.v_mm_s[2] * kRealPerMilli}, kHand)};
+  t.w_rad_s = {clamp_real(fx::Real{rq.w_mrad_s[0] * kRealPerMilli}, kWrist),
+               clamp_real(fx::Real{rq.w_mrad_s[1] * kRealPerMilli}, kWrist),
+               clamp_real(fx::Real{rq.w_mrad_s[2] * kRealPerMilli}, kWrist)};
+  return t;
+}
+
+void gripper_tick(int16_t stick_y_q15) {
+  constexpr core::Scale kRate = core::scale_for(kGripperRate_us_per_s / (double)kLoopHz);
+  constexpr int32_t kMin = (int32_t)kGripperMin_us << 15, kMax = (int32_t)kGripperMax_us << 15;
+  g_gripper_us_q15 += core::apply(kRate, stick_y_q15);  // us x 32768 per tick: y/32768 x rate x 32768
+  if (g_gripper_us_q15 < kMin) g_gripper_us_q15 = kMin;
+  if (g_gripper_us_q15 > kMax) g_gripper_us_q15 = kMax;
+  tick::set_servo_pulse_us((uint16_t)(g_gripper_us_q15 >> 15));
+}
+
+void motion_tick(const control::JoystickOutput& stick, const Requests& rq) {
+  kin::JointAngles<Fixed> q;
+  for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
+  const kin::ArmTrig<Fixed> trig = kin::arm_trig<Fixed>(q);
+
+  const config::Mode mode = g_supervisor.mode();
+  kin::Twist<Fixed> twist;
+  if (rq.velocity_fresh) {
+    twist = velocity_twist(rq);
+  } else {
+    twist = core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
+    if (mode == config::Mode::gripper) gripper_tick(stick.y_q15);
+  }
+  const fx::Unit factor = g_speed_scale * tracking_factor();
+  twist.v_m_s = {factor * twist.v_m_s.x, factor * twist.v_m_s.y, factor * twist.v_m_s.z};
+  twist.w_rad_s = {factor * twist.w_rad_s.x, factor * twist.w_rad_s.y, factor * twist.w_rad_s.z};
+
+  // drift correction: towards the integrated commanded position
+  constexpr int32_t kMaxCorrection = (int32_t)(kDriftMaxCorrection_mm_s / 1000.0 * core::kRealPerRad);
+  const kin::Vec3<fx::Real> p = kin::hand_position<Fixed>(trig);
+  kin::Twist<Fixed> corrected = twist;
+  corrected.v_m_s.x = twist.v_m_s.x + clamp_real(fx::Real{(g_p_cmd.x - p.x).raw * kDriftGain_per_s}, kMaxCorrection);
+  corrected.v_m_s.y = twist.v_m_s.y + clamp_real(fx::Real{(g_p_cmd.y - p.y).raw * kDriftGain_per_s}, kMaxCorrection);
+  corrected.v_m_s.z = twist.v_m_s.z + clamp_real(fx::Real{(g_p_cmd.z - p.z).raw * kDriftGain_per_s}, kMaxCorrection);
+
+  const core::JointRates rates = core::resolved_rate(q, trig, corrected, kLimits);
+  g_status.slowed_by = rates.slowed_by;
+  constexpr core::Scale kPerTick = core::scale_for(1.0 / kLoopHz);
+  g_p_cmd.x.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.x).raw);
+  g_p_cmd.y.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.y).raw);
+  g_p_cmd.z.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.z).raw);
+
+  for (uint8_t j = 0; j < 6; ++j) {
+    g_qd[j] = rates.qd_rad_s[j];
+    g_q[j].advance(rates.qd_rad_s[j]);
+  }
+  for (uint8_t i = 0; i < 3; ++i) {
+    const uint8_t j = kStepperJoint[i];
+    const int32_t error = kStepperMap[i].steps(g_q[j].angle) - steppers::ramp(i).position_steps();
+    const int32_t speed = kStepperMap[i].speed_steps_s(g_qd[j]) + kStepperPositionGain_per_s * error;
+    steppers::Command c(i);
+    c.ramp().set_speed(speed);
+  }
+}
+
+void start_running(core::ArmState from) {
+  if (from != core::ArmState::to_ready) drives_on();
+  kin::JointAngles<Fixed> q;
+  for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
+  g_p_cmd = kin::hand_position<Fixed>(kin::arm_trig<Fixed>(q));
+  g_moving = false;
+}
+
+void enter(core::ArmState state, core::ArmState from) {
+  switch (state) {
+    case core::ArmState::homing:
+      drives_on();
+      for (uint8_t i = 0; i < 3; ++i) g_homing[i].restart();
+      g_homed = false;
+      inputs::arm_switches(kSwitchesArmedHoming);
+      break;
+    case core::ArmState::to_ready:
+      begin_move(g_settings->pose_angle[0]);
+      inputs::arm_switches(kSwitchesArmed);
+      break;
+    case core::ArmState::running:
+      start_running(from);
+      inputs::arm_switches(kSwitchesArmed);
+      break;
+    default:
+      drives_off();
+      inputs::arm_switches(0);
+      break;
+  }
+}
+
+void dc_tick() {
+  for (uint8_t d = 0; d < 3; ++d) {
+    const int32_t reference = g_pot[d].units(g_q[kDcJoint[d]].angle);
+    const int32_t lag = reference - g_dc_units[d];
+    if (lag > g_lag_fault_units[d] || lag < -g_lag_fault_units[d]) g_faults |= core::fault_mask(core::kFaultBitTracking);
+    bridges::set(d, g_servo[d].update(reference, g_dc_units[d]));
+  }
+}
+
+void configure(Settings& settings) {
+  constexpr control::JoystickConfig kStick{1023,
+                                           kStickRailMargin_counts,
+                                           kStickRailTicks,
+                                           kStickCalibrationSamples,
+                                           kStickCalibrationSpread_counts,
+                                           kStickCentreTolerance_counts,
+                                           permille_q15(kStickDeadZone_permille),
+                                           permille_q15(kStickExpo_permille),
+                                           (int16_t)(32767 / kStickRise_ms),
+                                           (int16_t)(32767 / kStickFall_ms),
+                                           kStickNeutral_ms};
+  static_assert(control::joystick_check(kStick), "joystick configuration");
+  g_stick.configure(kStick);
+  g_button.configure(control::ButtonConfig{kButtonDebounce_ms, kButtonLongPress_ms});
+
+  for (uint8_t i = 0; i < 3; ++i) {
+    steppers::Command c(i);
+    c.ramp().configure(kRampConfig[i]);
+    g_homing[i].configure(core::HomingConfig{kHomingDir[i], steps_per_s(i, kHomingFast_crad_s[i]),
+                                             steps_per_s(i, kHomingSlow_crad_s[i]), steps_of_deg(i, kHomingBackOff_deg[i]),
+                                             steps_of_deg(i, kHomeSwitch_deg[i]), steps_of_deg(i, kHomingMaxTravel_deg[i])});
+  }
+
+  using L = kin::JointLimits<Fixed>;
+  for (uint8_t d = 0; d < 3; ++d) {
+    const uint8_t j = kDcJoint[d];
+    g_pot[d] = core::PotMap::make(L::min[j], L::max[j], settings.pot_at_min_counts_x16[d] / 16.0,
+                                  settings.pot_at_max_counts_x16[d] / 16.0);
+    const double units_per_rad = (settings.pot_at_max_counts_x16[d] - settings.pot_at_min_counts_x16[d]) /
+                                 (double)(L::max[j].raw - L::min[j].raw) * core::kAngleCountsPerRad;
+    g_lag_slow_units[d] = (int32_t)(kTrackingSlowFrom_mrad / 1000.0 * units_per_rad);
+    g_lag_stop_units[d] = (int32_t)(kTrackingStopAt_mrad / 1000.0 * units_per_rad);
+    g_lag_fault_units[d] = (int32_t)(kTrackingFault_mrad / 1000.0 * units_per_rad);
+    g_lag_inverse[d] = (int16_t)(32767 / (g_lag_stop_units[d] - g_lag_slow_units[d]));
+
+    const control::PidGainsResult gains =
+        control::pid_gains(kDcKp[d], kDcKi_per_s[d], kDcKd_s[d], kLoopHz, kPositionUnitsPerCount);
+    const int16_t u = kPositionUnitsPerCount;
+    g_servo[d].configure(core::DcServoConfig{
+        kDcUseRelay,
+        control::PidConfig{gains.gains, 32767, (int16_t)(32767 / kDcRampTime_ms), permille_q15(kDcMinDuty_permille),
+                           permille_q15(kDcZeroBand_permille)},
+        control::RelayConfig{kRelayDeadZone_counts * u, 0, permille_q15(kRelayDuty_permille)},
+        control::PlausibilityConfig{permille_q15(kStallDuty_permille), (uint16_t)kStallTime_ms,
+                                    (int32_t)kStallProgress_counts * u, (uint16_t)kSignGrace_ms,
+                                    (int32_t)kSignDistance_counts * u, (int32_t)kMaxStep_counts_per_ms * u,
+                                    (int32_t)kRailMargin_counts * u, (int32_t)(1023 - kRailMargin_counts) * u,
+                                    (uint8_t)kRailTime_ms},
+        (int32_t)kDcParkBand_counts * u, (uint16_t)kDcParkTime_ms});
+  }
+}
+
+}  // namespace
+
+void start(Settings& settings) {
+  g_settings = &settings;
+  configure(settings);
+  adc::start(kAdcOrder, sizeof kAdcOrder);
+  g_gripper_us_q15 = (int32_t)kGripperStart_us << 15;
+}
+
+void stop_from_interrupt() {
+  bridges::all_off();
+  steppers::kill();
+}
+
+void iterate(Requests& rq) {
+  // --- inputs
+  uint16_t adc[5];
+  adc::snapshot(adc);
+  const uint16_t switches = inputs::closed_switches();
+  const bool safety = inputs::take_safety_event() | inputs::safety_pressed();
+  ++g_ms;
+  const control::JoystickOutput stick = g_stick.update(adc[0], adc[1]);
+  const control::ButtonEvent button = g_button.update(inputs::joystick_button_down(), g_ms);
+
+  // --- checks
+  for (uint8_t d = 0; d < 3; ++d) {
+    g_dc_units[d] = (int32_t)adc[2 + d] * kPositionUnitsPerCount;
+    g_faults |= core::dc_joint_faults(d, g_servo[d].check(g_dc_units[d]));
+  }
+  if (inputs::take_switch_event()) g_faults |= core::fault_mask(core::kFaultBitLimitUnexpected);
+
+  // --- supervisor
+  const core::ArmState before = g_supervisor.state();
+  const bool long_press = button == control::ButtonEvent::long_press;
+  const bool halted = before == core::ArmState::stopped || before == core::ArmState::fault;
+  if (halted && (rq.rearm || long_press) && !safety) {
+    g_faults = 0;
+    for (uint8_t d = 0; d < 3; ++d) g_servo[d].reset_checks(g_dc_units[d]);
+  }
+  const bool stick_valid = !(stick.status & (control::kJoystickRailX | control::kJoystickRailY));
+  const bool stick_neutral = stick.x_q15 == 0 && stick.y_q15 == 0 && !(stick.status & control::kJoystickCalibrating);
+  core::SupervisorInputs in{};
+  in.safety_pressed = safety;
+  in.faults = (uint16_t)(g_faults & core::kFaultsLatched);
+  in.stick_valid = stick_valid;
+  in.stick_neutral = stick_neutral;
+  in.short_press = button == control::ButtonEvent::press;
+  in.long_press = long_press;
+  in.rearm_command = rq.rearm;
+  in.stop_command = rq.stop;
+  in.home_command = rq.home;
+  in.homed = g_homed;
+  in.at_ready = g_at_target;
+  g_supervisor.update(in, 1);
+  const core::ArmState state = g_supervisor.state();
+  if (state != g_prev_state) {
+    enter(state, g_prev_state);
+    g_prev_state = state;
+  }
+
+  // --- motion
+  switch (state) {
+    case core::ArmState::homing:
+      homing_tick(switches);
+      break;
+    case core::ArmState::to_ready:
+      move_tick();
+      break;
+    case core::ArmState::running: {
+      int8_t slot = rq.goto_slot;
+      if (long_press && kLongPressWhileRunning == LongPress::go_to_stored_pose_0) slot = 0;
+      if (slot >= 0 && (g_settings->pose_valid & (1 << slot))) {
+        begin_move(g_settings->pose_angle[slot]);
+        g_moving = true;
+      }
+      if (g_moving && (!stick_neutral || rq.velocity_fresh)) {  // the person takes over: stop the move
+        g_moving = false;
+        start_running(state);
+      }
+      if (g_moving) {
+        move_tick();
+        if (g_at_target) start_running(state);
+      } else {
+        motion_tick(stick, rq);
+      }
+      break;
+    }
+    default:
+      break;
+  }
+  if (g_supervisor.drives_enabled()) dc_tick();
+
+  rq.stop = rq.rearm = rq.home = false;
+  rq.goto_slot = -1;
+
+  g_status.state = state;
+  g_status.mode = g_supervisor.mode();
+  g_status.faults = g_faults | (stick_valid ? 0 : core::fault_mask(core::kFaultBitStickInvalid));
+  g_status.switches = switches;
+  g_status.stick_q15[0] = stick.x_q15;
+  g_status.stick_q15[1] = stick.y_q15;
+}
+
+const Status& status() {
+  for (uint8_t i = 0; i < 3; ++i)
+    g_status.q_measured[kStepperJoint[i]] = kStepperMap[i].angle(steppers::ramp(i).position_steps());
+  for (uint8_t d = 0; d < 3; ++d) g_status.q_measured[kDcJoint[d]] = g_pot[d].angle(g_dc_units[d]);
+  for (uint8_t j = 0; j < 6; ++j) {
+    g_status.q_ref[j] = g_q[j].angle;
+    g_status.qd_rad_s[j] = g_qd[j];
+  }
+  g_status.speed_scale_pct = (uint8_t)(((int32_t)g_speed_scale.raw * 100 + 16383) / fx::kUnitOne);
+  return g_status;
+}
+
+bool select_mode(config::Mode m) { return g_supervisor.select_mode(m); }
+
+void set_speed_scale(uint8_t percent) {
+  g_speed_scale = fx::Unit{(int16_t)((int32_t)(percent > 100 ? 100 : percent) * fx::kUnitOne / 100)};
+}
+
+bool store_pose(uint8_t slot) {
+  if (slot >= kPoseSlots || g_supervisor.state() != core::ArmState::running) return false;
+  for (uint8_t j = 0; j < 6; ++j) g_settings->pose_angle[slot][j] = g_q[j].angle.raw;
+  g_settings->pose_valid |= (uint8_t)(1 << slot);
+  save_settings(*g_settings);
+  return true;
+}
+
+bool pose_valid(uint8_t slot) { return slot < kPoseSlots && (g_settings->pose_valid & (1 << slot)); }
+
+}  // namespace app
+}  // namespace wmra

@@ -1,0 +1,58 @@
+// The arm's control: one iteration per 1 kHz tick, from the inputs to the drives' setpoints.
+//
+//   inputs     ADC scan (stick, pots), switches, buttons
+//   checks     potentiometer plausibility, limit switches, tracking -> latched faults
+//   supervisor the state (boot .. running, stopped, fault) and the mode
+//   motion     homing / joint moves to a pose / resolved rate from the stick or a streamed
+//              velocity, into joint references q_ref (Angle)
+//   drives     steppers: ramp speed = q_ref's rate + a position loop on the step count;
+//              DC joints: PID (or relay) on the pot towards q_ref
+// Everything that decides is in firmware/core and lib/ (host-tested); this file wires it to the
+// drivers. The serial link (link.h) reads the state and sends requests through Requests.
+#pragma once
+
+#include <stdint.h>
+
+#include "core/supervisor.h"
+#include "kinematics/fixed_point.h"
+#include "kinematics/fixed_trig.h"
+
+namespace wmra {
+namespace app {
+
+struct Settings;
+
+// requests from the serial link, taken by the next iteration
+struct Requests {
+  bool stop, rearm, home;
+  int8_t goto_slot;  // -1: none
+  bool velocity_fresh;
+  int16_t v_mm_s[3];
+  int16_t w_mrad_s[3];
+};
+
+// what telemetry reports
+struct Status {
+  core::ArmState state;
+  config::Mode mode;
+  uint32_t faults;
+  uint8_t slowed_by;
+  uint16_t switches;
+  fx::Angle q_measured[6];
+  fx::Angle q_ref[6];
+  fx::Real qd_rad_s[6];
+  int16_t stick_q15[2];
+  uint8_t speed_scale_pct;
+};
+
+void start(Settings& settings);
+void iterate(Requests& requests);  // one control tick
+void stop_from_interrupt();         // the stop hook of the safety button and the limit switches
+const Status& status();
+bool select_mode(config::Mode m);
+void set_speed_scale(uint8_t percent);
+bool store_pose(uint8_t slot);
+bool pose_valid(uint8_t slot);
+
+}  // namespace app
+}  // namespace wmra

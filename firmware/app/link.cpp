@@ -1,0 +1,159 @@
+#include "app/link.h"
+
+#include "config/control_config.h"
+#include "core/joint_map.h"
+#include "drivers/system_tick.h"
+#include "drivers/uart.h"
+#include "kinematics/forward_kinematics.h"
+#include "protocol/frame.h"
+#include "protocol/messages.h"
+
+namespace wmra {
+namespace app {
+namespace link {
+
+namespace {
+
+using protocol::MsgType;
+using protocol::ReplyStatus;
+
+protocol::Parser g_parser;
+uint8_t g_seq;
+uint8_t g_reset_cause;
+uint16_t g_rejected;
+uint16_t g_since_state_ms;
+uint16_t g_velocity_age_ms = 0xFFFF;
+uint16_t g_loop_cycles_max;
+
+constexpr core::Scale kMrad = core::scale_for(1000.0 / core::kAngleCountsPerRad);  // Angle -> mrad
+constexpr core::Scale kMradPerS = core::scale_for(1000.0 / core::kRealPerRad);     // Q23 -> mrad/s (or mm)
+constexpr core::Scale kTenthMm = core::scale_for(10000.0 / core::kRealPerRad);     // Q23 m -> 0.1 mm
+
+int16_t to_i16(int32_t v) { return (int16_t)(v > 32767 ? 32767 : v < -32767 ? -32767 : v); }
+
+void send(MsgType type, const uint8_t* payload, uint8_t length) {
+  uint8_t frame[protocol::kMaxPayload + 7];
+  const uint8_t n = protocol::write_frame((uint8_t)type, g_seq, payload, length, frame);
+  if (uart::write(frame, n)) ++g_seq;
+}
+
+void reply(const protocol::Frame& f, ReplyStatus status) {
+  if (status != ReplyStatus::ok && g_rejected != 0xFFFF) ++g_rejected;
+  const protocol::ReplyMsg r{f.type, f.seq, (uint8_t)status};
+  uint8_t payload[protocol::kMaxPayload];
+  send(MsgType::reply, payload, protocol::encode(r, payload));
+}
+
+#ifdef WMRA_TEST_HOOKS
+// test builds only: a command that hangs the main loop, for the watchdog scenario (S10)
+constexpr uint8_t kTestHangCommand = 0x7F;
+#endif
+
+ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
+#ifdef WMRA_TEST_HOOKS
+  if (f.type == kTestHangCommand) {
+    for (;;) {
+    }
+  }
+#endif
+  const ReplyStatus check = protocol::check_command(f);
+  if (check != ReplyStatus::ok) return check;
+  const core::ArmState state = status().state;
+  const bool running = state == core::ArmState::running;
+  switch ((MsgType)f.type) {
+    case MsgType::cmd_stop:
+      rq.stop = true;
+      return ReplyStatus::ok;
+    case MsgType::cmd_rearm:
+      if (state != core::ArmState::stopped && state != core::ArmState::fault) return ReplyStatus::refused;
+      rq.rearm = true;
+      return ReplyStatus::ok;
+    case MsgType::cmd_mode:
+      return select_mode((config::Mode)f.payload[0]) ? ReplyStatus::ok : ReplyStatus::refused;
+    case MsgType::cmd_speed_scale:
+      set_speed_scale(f.payload[0]);
+      return ReplyStatus::ok;
+    case MsgType::cmd_home:
+      rq.home = true;
+      return ReplyStatus::ok;
+    case MsgType::cmd_goto_pose:
+      if (!running || !pose_valid(f.payload[0])) return ReplyStatus::refused;
+      rq.goto_slot = (int8_t)f.payload[0];
+      return ReplyStatus::ok;
+    case MsgType::cmd_store_pose:
+      return store_pose(f.payload[0]) ? ReplyStatus::ok : ReplyStatus::refused;
+    case MsgType::cmd_velocity: {
+      if (!running) return ReplyStatus::refused;
+      protocol::VelocityCmd v;
+      if (!protocol::decode(f, v)) return ReplyStatus::bad_length;
+      for (uint8_t i = 0; i < 3; ++i) {
+        rq.v_mm_s[i] = v.v_mm_s[i];
+        rq.w_mrad_s[i] = v.w_mrad_s[i];
+      }
+      g_velocity_age_ms = 0;
+      return ReplyStatus::ok;
+    }
+    default:
+      break;
+  }
+  return ReplyStatus::unknown_command;
+}
+
+void send_state() {
+  const Status& s = status();
+  protocol::StateMsg m{};
+  m.t_ms = tick::now_ms();
+  m.state = (uint8_t)s.state;
+  m.mode = (uint8_t)s.mode;
+  m.faults = s.faults;
+  m.slowed_by = s.slowed_by;
+  m.reset_cause = g_reset_cause;
+  m.switches = s.switches;
+  kin::JointAngles<kin::Fixed> q;
+  for (uint8_t j = 0; j < 6; ++j) {
+    m.q_mrad[j] = to_i16(core::apply(kMrad, s.q_measured[j].raw));
+    m.qd_mrad_s[j] = to_i16(core::apply(kMradPerS, s.qd_rad_s[j].raw));
+    q.q[j] = s.q_ref[j];
+  }
+  const kin::Vec3<fx::Real> p = kin::hand_position<kin::Fixed>(kin::arm_trig<kin::Fixed>(q));
+  m.p_0p1mm[0] = to_i16(core::apply(kTenthMm, p.x.raw));
+  m.p_0p1mm[1] = to_i16(core::apply(kTenthMm, p.y.raw));
+  m.p_0p1mm[2] = to_i16(core::apply(kTenthMm, p.z.raw));
+  m.stick_permille[0] = (int16_t)((int32_t)s.stick_q15[0] * 1000 / 32767);
+  m.stick_permille[1] = (int16_t)((int32_t)s.stick_q15[1] * 1000 / 32767);
+  m.speed_scale_pct = s.speed_scale_pct;
+  m.loop_cycles_max = g_loop_cycles_max;
+  m.rx_crc_errors = g_parser.crc_errors();
+  m.rx_framing_errors = g_parser.framing_errors();
+  m.rx_rejected = g_rejected;
+  uint8_t payload[protocol::kMaxPayload];
+  send(MsgType::state, payload, protocol::encode(m, payload));
+  g_loop_cycles_max = 0;
+}
+
+}  // namespace
+
+void start(uint8_t reset_cause, uint8_t calibration) {
+  g_reset_cause = reset_cause;
+  const protocol::BootMsg b{reset_cause, calibration};
+  uint8_t payload[protocol::kMaxPayload];
+  send(MsgType::boot, payload, protocol::encode(b, payload));
+}
+
+void poll(Requests& rq, uint16_t loop_cycles) {
+  if (loop_cycles > g_loop_cycles_max) g_loop_cycles_max = loop_cycles;
+  uint8_t byte;
+  for (uint8_t n = 0; n < config::kMaxRxBytesPerTick && uart::read(byte); ++n) {
+    if (g_parser.feed(byte)) reply(g_parser.frame(), handle(g_parser.frame(), rq));
+  }
+  if (g_velocity_age_ms != 0xFFFF) ++g_velocity_age_ms;
+  rq.velocity_fresh = g_velocity_age_ms < config::kVelocityTimeout_ms;
+  if (++g_since_state_ms >= config::kTelemetryPeriod_ms) {
+    g_since_state_ms = 0;
+    send_state();
+  }
+}
+
+}  // namespace link
+}  // namespace app
+}  // namespace wmra

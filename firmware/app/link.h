@@ -1,0 +1,21 @@
+// The serial link: state frames out at 50 Hz, commands in, a reply to every command
+// (docs/telemetry.md, firmware/protocol/). Runs after each control iteration, outside its
+// timing window; it parses a bounded number of bytes per tick, and garbage only moves its
+// error counters.
+#pragma once
+
+#include <stdint.h>
+
+#include "app/arm_control.h"
+
+namespace wmra {
+namespace app {
+namespace link {
+
+void start(uint8_t reset_cause, uint8_t calibration);
+// one tick: commands into requests, a state frame when due; loop_cycles: this iteration's length
+void poll(Requests& requests, uint16_t loop_cycles);
+
+}  // namespace link
+}  // namespace app
+}  // namespace wmra

@@ -1,0 +1,54 @@
+// The firmware of the wheelchair-mounted arm on the ATmega2560 (SPEC.md).
+//
+// Start-up: every output is made safe before anything else (drivers disabled, bridges low),
+// then the watchdog, the settings from EEPROM, the peripherals, and a boot frame with the
+// reset cause. Then, every 1 ms: one control iteration with the timing probe (D49) high,
+// the watchdog kicked, the serial link served and one EEPROM byte written if one is pending;
+// between ticks the CPU sleeps (idle), which is what the simulator counts as free time.
+#include <avr/interrupt.h>
+#include <avr/io.h>
+
+#include "app/arm_control.h"
+#include "app/link.h"
+#include "app/settings.h"
+#include "drivers/bridges.h"
+#include "drivers/eeprom_store.h"
+#include "drivers/inputs.h"
+#include "drivers/pins.h"
+#include "drivers/steppers.h"
+#include "drivers/system_tick.h"
+#include "drivers/uart.h"
+#include "drivers/watchdog.h"
+#include "wmra_mega/board.h"
+
+using namespace wmra;
+
+int main() {
+  steppers::start();
+  bridges::start();
+  pins::write(board::kTimingProbe, false);
+  pins::output(board::kTimingProbe);
+  watchdog::start();
+
+  static app::Settings settings;
+  const eeprom_store::LoadResult loaded = app::load_settings(settings);
+  tick::start();
+  uart::start();
+  inputs::start(&app::stop_from_interrupt);
+  app::start(settings);
+  app::link::start(watchdog::reset_cause(), (uint8_t)loaded);
+  sei();
+
+  static app::Requests requests{false, false, false, -1, false, {0, 0, 0}, {0, 0, 0}};
+  for (;;) {
+    tick::wait();
+    const uint16_t begin = TCNT1;
+    pins::write(board::kTimingProbe, true);
+    app::iterate(requests);
+    pins::write(board::kTimingProbe, false);
+    const uint16_t ticks = (uint16_t)(TCNT1 - begin);  // Timer1 counts at 2 MHz: 8 CPU cycles a count
+    watchdog::kick();
+    app::link::poll(requests, ticks > 8191 ? 0xFFFF : (uint16_t)(ticks * 8));
+    eeprom_store::service();
+  }
+}

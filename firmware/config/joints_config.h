@@ -1,0 +1,110 @@
+// The joints' drives: stepper resolutions and ramps, homing, the ready pose, the DC joints'
+// potentiometers, servo gains and plausibility limits. Units are in the names; each value has
+// a static_assert on its range. Changing one is an edit here and a rebuild.
+#pragma once
+
+#include <stdint.h>
+
+#include "kinematics/ratio.h"
+
+namespace wmra {
+namespace config {
+
+// --- stepper joints J1, J5, J6 (index 0, 1, 2 here)
+// 200 full steps x 1/32 microstep (DRV8825 mode pins high) x the joint's reduction (SPEC 4)
+constexpr uint32_t kStepsPerJointTurn[3] = {200ul * 32 * 2, 200ul * 32 * 10, 200ul * 32 * 1};
+// acceleration limits, rad/s^2 x 100: J1 carries the whole arm (about 0.8 rad/s^2 stretched with
+// the payload before the NEMA23 slips)
+constexpr int16_t kStepperAccel_crad_s2[3] = {60, 400, 400};
+// the shortest step interval, Timer5 ticks of 4 us: 12.5 ticks, 20 kHz (the ramp carries the
+// fraction)
+constexpr uint16_t kStepMinInterval_ticks = 12;
+// position loop of a stepper around its reference: speed += gain x (reference - position)
+constexpr int16_t kStepperPositionGain_per_s = 20;
+
+// Homing (SPEC 5): J1 to its +90 deg switch, J5 to its -90 deg switch, J6 to its zero switch,
+// approached from above, which closes 2 deg before zero (its cam is +-2 deg wide).
+constexpr int8_t kHomingDir[3] = {+1, -1, -1};
+constexpr int16_t kHomeSwitch_deg[3] = {90, -90, 2};
+// Fast approach: the ramp must brake within the 3 deg between a switch and its hard stop.
+constexpr int16_t kHomingFast_crad_s[3] = {15, 30, 40};
+constexpr int16_t kHomingSlow_crad_s[3] = {3, 3, 5};
+constexpr int16_t kHomingBackOff_deg[3] = {3, 3, 6};
+constexpr int16_t kHomingMaxTravel_deg[3] = {200, 200, 400};
+
+// The ready pose after homing (off the singular J5 = -90 deg), J1..J6, deg
+constexpr int16_t kReadyPose_deg[6] = {70, 20, -70, 50, -30, 0};
+// joint-space moves (to the ready pose, to a stored pose): this fraction of each joint's limit
+constexpr Ratio kJointMoveSpeed{1, 2};
+constexpr int16_t kArrivedTolerance_mdeg = 1000;  // DC joints; steppers arrive exactly
+
+// --- DC joints J2, J3, J4 (index 0, 1, 2 here)
+// Potentiometers (SPEC 4): the joint range spans 250..4750 mV of the 5 V ADC range, so an open
+// or shorted wiper (a rail) is told from any angle. Per-joint calibration in EEPROM overrides.
+constexpr int16_t kPotAtMin_mV = 250;
+constexpr int16_t kPotAtMax_mV = 4750;
+constexpr int16_t kAdcRef_mV = 5000;
+constexpr int16_t kPositionUnitsPerCount = 16;
+
+// PID by seed 1's pole placement on each joint (tools/jointsim dc --show-design; README):
+// Kp in duty per count, Ki per count-second, Kd in duty-seconds per count, at the loop rate
+constexpr Ratio kDcKp[3] = {{5527, 100000}, {8799, 100000}, {7020, 100000}};
+constexpr Ratio kDcKi_per_s[3] = {{12754, 100000}, {24367, 100000}, {25922, 100000}};
+constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}};
+// effort ramps from 0 to full in 50 ms; the worm's stiction needs 11 % duty to break away;
+// below 1 % effort the duty is 0
+constexpr int16_t kDcRampTime_ms = 50;
+constexpr int16_t kDcMinDuty_permille = 110;
+constexpr int16_t kDcZeroBand_permille = 10;
+// park (duty 0: the worm holds) once within this many ADC counts for this long
+constexpr int16_t kDcParkBand_counts = 1;
+constexpr int16_t kDcParkTime_ms = 50;
+// seed 1's relay with dead zone instead of the PID
+constexpr bool kDcUseRelay = false;
+constexpr int16_t kRelayDeadZone_counts = 2;
+constexpr int16_t kRelayDuty_permille = 600;
+
+// Plausibility (SPEC 6): saturated drive without progress = stall; against the drive = sign
+// error; a reading jumping more than a joint can move = jump; near a rail = broken wiring
+constexpr int16_t kStallDuty_permille = 950;
+constexpr int16_t kStallTime_ms = 300;
+constexpr int16_t kStallProgress_counts = 2;
+constexpr int16_t kSignGrace_ms = 200;
+constexpr int16_t kSignDistance_counts = 8;
+constexpr int16_t kMaxStep_counts_per_ms = 12;
+constexpr int16_t kRailMargin_counts = 20;
+constexpr int16_t kRailTime_ms = 5;
+// Tracking: a DC joint behind its reference slows the hand (from the first to the second
+// lag) rather than letting the reference run away; beyond the third it is a fault.
+constexpr int16_t kTrackingSlowFrom_mrad = 30;
+constexpr int16_t kTrackingStopAt_mrad = 100;
+constexpr int16_t kTrackingFault_mrad = 250;
+
+// --- checks
+static_assert(kStepMinInterval_ticks >= 12, "at most 20.8 kHz per stepper");
+constexpr bool stepper_config_ok() {
+  for (int i = 0; i < 3; ++i) {
+    if (kStepperAccel_crad_s2[i] <= 0 || kStepperAccel_crad_s2[i] > 2000) return false;
+    if (kHomingFast_crad_s[i] <= 0 || kHomingFast_crad_s[i] > 50 || kHomingSlow_crad_s[i] <= 0 ||
+        kHomingSlow_crad_s[i] > kHomingFast_crad_s[i])
+      return false;
+    if (kHomingBackOff_deg[i] < 1 || kHomingBackOff_deg[i] > 20 || kHomingMaxTravel_deg[i] < 90) return false;
+    if (kHomingDir[i] != 1 && kHomingDir[i] != -1) return false;
+  }
+  return true;
+}
+static_assert(stepper_config_ok(), "stepper accelerations in (0, 20] rad/s^2, homing speeds in (0, 0.5] rad/s, slow <= fast");
+static_assert(kStepperPositionGain_per_s > 0 && kStepperPositionGain_per_s <= 100, "stepper position gain in (0, 100] /s");
+static_assert(kPotAtMin_mV > 100 && kPotAtMax_mV < kAdcRef_mV - 100 && kPotAtMin_mV < kPotAtMax_mV,
+              "the pot range must leave both rails for fault detection");
+static_assert(kDcRampTime_ms > 0 && kDcMinDuty_permille >= 0 && kDcMinDuty_permille < 500 && kDcZeroBand_permille >= 0,
+              "DC duty shaping");
+static_assert(kTrackingSlowFrom_mrad > 0 && kTrackingSlowFrom_mrad < kTrackingStopAt_mrad &&
+                  kTrackingStopAt_mrad < kTrackingFault_mrad,
+              "tracking: slow from < stop at < fault");
+static_assert(kStallTime_ms > 0 && kStallProgress_counts > 0 && kSignDistance_counts > 0 && kMaxStep_counts_per_ms > 0 &&
+                  kRailMargin_counts > 0 && kRailTime_ms > 0,
+              "plausibility limits must be positive");
+
+}  // namespace config
+}  // namespace wmra

@@ -1,0 +1,103 @@
+// Conversions between the firmware's joint units, without a division in the control loop:
+//   Angle       fx::Angle, 2^18 counts per turn: the references q_ref and the kinematics;
+//   steps       microsteps of a stepper joint (its ramp's position count);
+//   pot units   ADC counts x 16 of a DC joint's potentiometer (the PID's position unit: the
+//               factor 16 keeps the fraction of a reference integrated from a velocity);
+//   rad/s       fx::Real (Q23) joint velocities from the resolved rate.
+// Each conversion factor is a Scale: x -> x * m / 2^15 * 2^e with m in [2^14, 2^15), one
+// 32 x 16 multiply and a shift (relative error below 2^-14 from rounding m).
+#pragma once
+
+#include <stdint.h>
+
+#include "kinematics/fixed_point.h"
+#include "kinematics/fixed_trig.h"
+
+namespace wmra {
+namespace core {
+
+struct Scale {
+  int16_t m;
+  int8_t e;
+};
+
+// a Scale for a positive factor (constexpr: from config numbers at compile time, or at boot
+// from a calibration)
+constexpr Scale scale_for(double factor) {
+  int8_t e = 0;
+  double f = factor;
+  while (f >= 1.0) {
+    f /= 2;
+    ++e;
+  }
+  while (f < 0.5) {
+    f *= 2;
+    --e;
+  }
+  const int32_t m = (int32_t)(f * 32768.0 + 0.5);
+  return m >= 32768 ? Scale{16384, (int8_t)(e + 1)} : Scale{(int16_t)m, e};
+}
+
+inline int32_t apply(Scale s, int32_t x) {
+  const int32_t p = fx::mul_q15(x, s.m);
+  return s.e >= 0 ? p << s.e : p >> -s.e;
+}
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kAngleCountsPerRad = fx::kAngleTurn / (2 * kPi);
+constexpr double kRealPerRad = 8388608.0;  // fx::Real is Q23
+constexpr double kLoopHz = 1000.0;
+
+// A velocity in rad/s (Q23) as Angle counts per control tick, Q16 (the fraction is carried)
+constexpr Scale kRateToAngleQ16PerTick = scale_for(kAngleCountsPerRad / kRealPerRad / kLoopHz * 65536.0);
+
+// An Angle plus the fraction of a count that the integration carries.
+struct AngleAccumulator {
+  fx::Angle angle;
+  uint16_t fraction;
+
+  void set(fx::Angle a) {
+    angle = a;
+    fraction = 0;
+  }
+  // one control tick at qd
+  void advance(fx::Real qd_rad_s) {
+    const int32_t delta_q16 = apply(kRateToAngleQ16PerTick, qd_rad_s.raw) + fraction;
+    angle.raw += delta_q16 >> 16;  // arithmetic shift: floor, the fraction stays in [0, 1)
+    fraction = (uint16_t)delta_q16;
+  }
+};
+
+// A stepper joint: steps per turn of the joint (motor steps x microsteps x reduction).
+struct StepperMap {
+  Scale steps_per_angle;  // position
+  Scale angle_per_step;
+  Scale steps_s_per_rate;  // speed: steps/s per Q23 rad/s
+
+  static constexpr StepperMap make(uint32_t steps_per_turn) {
+    return StepperMap{scale_for((double)steps_per_turn / fx::kAngleTurn), scale_for((double)fx::kAngleTurn / steps_per_turn),
+                      scale_for(steps_per_turn / (2 * kPi) / kRealPerRad)};
+  }
+  int32_t steps(fx::Angle a) const { return apply(steps_per_angle, a.raw); }
+  fx::Angle angle(int32_t steps) const { return fx::Angle{apply(angle_per_step, steps)}; }
+  int32_t speed_steps_s(fx::Real qd) const { return apply(steps_s_per_rate, qd.raw); }
+};
+
+// A DC joint's potentiometer: pot units at the joint's lower limit and per Angle count.
+struct PotMap {
+  fx::Angle q_min;
+  int32_t units_at_min;
+  Scale units_per_angle;
+  Scale angle_per_unit;
+
+  // from the ADC counts read at the joint's two limits (a calibration), count_max > count_min
+  static PotMap make(fx::Angle q_min, fx::Angle q_max, double count_at_min, double count_at_max) {
+    const double units_per_angle = (count_at_max - count_at_min) * 16.0 / (double)(q_max.raw - q_min.raw);
+    return PotMap{q_min, (int32_t)(count_at_min * 16.0 + 0.5), scale_for(units_per_angle), scale_for(1.0 / units_per_angle)};
+  }
+  int32_t units(fx::Angle a) const { return units_at_min + apply(units_per_angle, a.raw - q_min.raw); }
+  fx::Angle angle(int32_t units) const { return fx::Angle{q_min.raw + apply(angle_per_unit, units - units_at_min)}; }
+};
+
+}  // namespace core
+}  // namespace wmra

@@ -1,0 +1,91 @@
+#include "drivers/bridges.h"
+
+#include <avr/interrupt.h>
+#include <avr/io.h>
+
+#include "drivers/pins.h"
+#include "wmra_mega/board.h"
+
+namespace wmra {
+namespace bridges {
+
+namespace {
+
+using board::ComparePin;
+using board::Timer;
+
+constexpr uint16_t kTop16 = (uint16_t)(board::kCpuHz / kPwmHz - 1);     // prescaler 1
+constexpr uint8_t kTop8 = (uint8_t)(board::kCpuHz / 8 / kPwmHz - 1);    // prescaler 8
+static_assert(kTop16 == 799 && kTop8 == 99, "20 kHz PWM");
+
+constexpr const board::BridgePins& kPins(uint8_t j) {
+  return j == 0 ? board::kBridgeJ2 : j == 1 ? board::kBridgeJ3 : board::kBridgeJ4;
+}
+constexpr bool eight_bit(ComparePin p) { return p.timer == Timer::t0 || p.timer == Timer::t2; }
+constexpr uint8_t kComNonInverting = 2;
+
+void side(ComparePin p, uint16_t duty_q15) {
+  const uint16_t top = eight_bit(p) ? kTop8 : kTop16;
+  const uint16_t ocr = (uint16_t)(((uint32_t)duty_q15 * (top + 1u)) >> 15);
+  if (ocr == 0) {
+    pins::set_com(p, 0);
+    return;
+  }
+  if (eight_bit(p)) {
+    pins::ocr8(p) = (uint8_t)ocr;
+  } else {
+    pins::ocr16(p) = ocr;
+  }
+  pins::set_com(p, kComNonInverting);
+}
+
+void start_timer(Timer t) {
+  const m2560::TimerRegisters& r = m2560::timer_registers(t);
+  if (t == Timer::t0 || t == Timer::t2) {
+    pins::reg8(r.tccra) = (1 << WGM01) | (1 << WGM00);  // fast PWM, TOP = OCRA (mode 7)
+    pins::reg8(r.ocr[0]) = kTop8;
+    pins::reg8(r.tccrb) = (1 << WGM02) | (1 << CS01);   // /8 (same bit positions on Timer2)
+  } else {
+    pins::reg8(r.tccra) = (1 << WGM31);  // fast PWM, TOP = ICR (mode 14)
+    pins::reg16(r.icr) = kTop16;
+    pins::reg8(r.tccrb) = (1 << WGM33) | (1 << WGM32) | (1 << CS30);
+  }
+}
+
+}  // namespace
+
+void start() {
+  for (uint8_t j = 0; j < kCount; ++j) {
+    pins::write(kPins(j).left.pin, false);
+    pins::write(kPins(j).right.pin, false);
+    pins::output(kPins(j).left.pin);
+    pins::output(kPins(j).right.pin);
+  }
+  start_timer(Timer::t0);
+  start_timer(Timer::t2);
+  start_timer(Timer::t3);
+  start_timer(Timer::t4);
+}
+
+void set(uint8_t joint, int16_t duty_q15) {
+  const uint16_t magnitude = (uint16_t)(duty_q15 < 0 ? -(int32_t)duty_q15 : duty_q15);
+  const board::BridgePins& b = kPins(joint);
+  const uint8_t s = SREG;
+  cli();  // the e-stop ISR writes the same TCCRnA registers
+  side(duty_q15 > 0 ? b.right : b.left, 0);
+  side(duty_q15 > 0 ? b.left : b.right, magnitude);
+  SREG = s;
+}
+
+void all_off() {
+  const uint8_t s = SREG;
+  cli();
+  for (uint8_t j = 0; j < kCount; ++j) {
+    pins::set_com(kPins(j).left, 0);
+    pins::set_com(kPins(j).right, 0);
+  }
+  SREG = s;
+}
+
+}  // namespace bridges
+}  // namespace wmra

@@ -1,0 +1,20 @@
+// UART0 (the Mega's USB serial) at 115200 8N1 with interrupt-driven ring buffers: the control
+// loop never waits for the line. A frame is queued whole or not at all, so a full buffer drops
+// frames (counted), never bytes inside one.
+#pragma once
+
+#include <stdint.h>
+
+namespace wmra {
+namespace uart {
+
+constexpr uint8_t kRxBytes = 64;  // ring sizes: powers of two (indices wrap with a mask)
+constexpr uint16_t kTxBytes = 256;
+
+void start();
+bool read(uint8_t& byte);
+bool write(const uint8_t* data, uint8_t count);  // false: no room, nothing queued
+uint16_t rx_overruns();  // bytes lost: ring full or the receiver's own overrun
+
+}  // namespace uart
+}  // namespace wmra
