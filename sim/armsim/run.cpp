@@ -7,6 +7,7 @@
 
 #include <sys/stat.h>
 
+#include "armsim/json.h"
 #include "kinematics/forward_kinematics.h"
 
 namespace wmra {
@@ -20,23 +21,6 @@ FILE* open_for_writing(const std::string& path) {
   FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw std::runtime_error("cannot write " + path);
   return f;
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if ((unsigned char)c < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
 }
 
 void apply(sim::ArmSimulator& sim, const Event& e) {
