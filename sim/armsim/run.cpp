@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 
 #include "armsim/json.h"
+#include "armsim/report.h"
 #include "kinematics/forward_kinematics.h"
 
 namespace wmra {
@@ -110,6 +111,8 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
     std::fclose(serial);
     write_trajectory_csv(options.out_dir + "/trajectory.csv", result.trajectory);
     write_summary_json(options.out_dir + "/summary.json", result, scenario, options);
+    write_report_html(options.out_dir + "/report.html", result, scenario,
+                      options.title.empty() ? "armsim run" : options.title);
   }
   return result;
 }
