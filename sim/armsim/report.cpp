@@ -88,7 +88,12 @@ class Json {
     }
     out_ += ']';
   }
-  void columns(const std::vector<std::vector<double>>& cols, int decimals) {
+  void field(const char* k, const std::vector<double>& v, int decimals) {
+    key(k);
+    numbers(v, decimals);
+  }
+  void field(const char* k, const std::vector<std::vector<double>>& cols, int decimals) {
+    key(k);
     out_ += '[';
     for (size_t c = 0; c < cols.size(); ++c) {
       if (c) out_ += ',';
@@ -243,16 +248,11 @@ std::string data_json(const RunResult& result, const Scenario& scenario, const s
   }
   for (const auto& x : q) qd.push_back(smoothed_derivative(t, x, kDerivativeHalfWidth));
   for (const auto& x : p) v.push_back(smoothed_derivative(t, x, kDerivativeHalfWidth));
-  j.key("t");
-  j.numbers(t, 4);
-  j.key("q");
-  j.columns(q, 4);
-  j.key("qd");
-  j.columns(qd, 3);
-  j.key("p");
-  j.columns(p, 4);
-  j.key("v");
-  j.columns(v, 4);
+  j.field("t", t, 4);
+  j.field("q", q, 4);
+  j.field("qd", qd, 3);
+  j.field("p", p, 4);
+  j.field("v", v, 4);
 
   // animation frames: the seven frame origins, then frame 6's rotation
   std::vector<double> ft, origins, hand;
@@ -264,12 +264,9 @@ std::string data_json(const RunResult& result, const Scenario& scenario, const s
   }
   j.key("frames");
   j.raw("{");
-  j.key("t");
-  j.numbers(ft, 4);
-  j.key("origins");
-  j.numbers(origins, 4);
-  j.key("hand");
-  j.numbers(hand, 3);
+  j.field("t", ft, 4);
+  j.field("origins", origins, 4);
+  j.field("hand", hand, 3);
   j.raw("}");
 
   inputs(j, scenario);

@@ -62,6 +62,8 @@ TEST(ReportRender, ArmsimsReportRenders) {
   EXPECT_EQ(text.find("http"), std::string::npos);
   const Check c = check_report(page);
   EXPECT_EQ(c.status, 0) << c.output;
+  // in check-report's 5 s of virtual time the page played the whole 1.5 s run
+  EXPECT_NE(c.output.find("played to 1.50 / 1.50 s"), std::string::npos) << c.output;
 }
 
 TEST(ReportRender, NoDataRenders) {
