@@ -4,9 +4,9 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${WMRA_BUILD_DIR:-$ROOT/build/host}"
 
-# Debian packages the project needs (SPEC section 2)
+# Debian packages the project needs (SPEC section 2; chromium for the report checks)
 PACKAGES=(cmake make g++ pkg-config gcc-avr binutils-avr avr-libc avrdude simavr libsimavr-dev libelf-dev
-          libeigen3-dev libgtest-dev)
+          libeigen3-dev libgtest-dev chromium)
 
 install_missing_packages() {
   local missing=()

@@ -2,7 +2,8 @@
 //
 //   armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--seed N] [--rate HZ]
 //
-// Writes DIR/trajectory.csv and DIR/summary.json (and DIR/trace.vcd with --vcd); see run.h.
+// Writes DIR/trajectory.csv, DIR/summary.json and DIR/report.html (and DIR/trace.vcd with
+// --vcd); see run.h.
 // Without --elf it runs the firmware image of this build (ARMSIM_DEFAULT_ELF, set by CMake).
 // Exit status: 0 the scenario ran to its end; 1 the simulated core crashed before it;
 // 2 a bad command line or scenario (the message names the line); 3 the ELF or the output
@@ -88,6 +89,7 @@ int main(int argc, char** argv) {
   }
   options.elf = elf;
   options.out_dir = out_dir;
+  options.title = scenario_path.substr(scenario_path.find_last_of('/') + 1);
 
   const auto start = std::chrono::steady_clock::now();
   wmra::armsim::RunResult result;
@@ -99,8 +101,8 @@ int main(int argc, char** argv) {
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double simulated = result.measurements.sim_time_s;
-  std::fprintf(stderr, "armsim: %.3f s simulated in %.3f s (%.1fx real time); %s/trajectory.csv, %s/summary.json\n",
-               simulated, wall, wall > 0 ? simulated / wall : 0.0, out_dir.c_str(), out_dir.c_str());
+  std::fprintf(stderr, "armsim: %.3f s simulated in %.3f s (%.1fx real time); %s/trajectory.csv, summary.json, report.html\n",
+               simulated, wall, wall > 0 ? simulated / wall : 0.0, out_dir.c_str());
   for (const auto& f : result.measurements.sim_faults) std::fprintf(stderr, "armsim: %s\n", f.c_str());
   return result.completed ? 0 : 1;
 }

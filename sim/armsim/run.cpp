@@ -7,6 +7,8 @@
 
 #include <sys/stat.h>
 
+#include "armsim/json.h"
+#include "armsim/report.h"
 #include "kinematics/forward_kinematics.h"
 
 namespace wmra {
@@ -20,23 +22,6 @@ FILE* open_for_writing(const std::string& path) {
   FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw std::runtime_error("cannot write " + path);
   return f;
-}
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if ((unsigned char)c < 0x20) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\u%04x", c);
-      out += buf;
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
 }
 
 void apply(sim::ArmSimulator& sim, const Event& e) {
@@ -126,6 +111,8 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
     std::fclose(serial);
     write_trajectory_csv(options.out_dir + "/trajectory.csv", result.trajectory);
     write_summary_json(options.out_dir + "/summary.json", result, scenario, options);
+    write_report_html(options.out_dir + "/report.html", result, scenario,
+                      options.title.empty() ? "armsim run" : options.title);
   }
   return result;
 }

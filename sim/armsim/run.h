@@ -2,6 +2,7 @@
 //   trajectory.csv  t,q1..q6,x,y,z,r11..r33,mode,state  (true plant angles, pose of frame 6)
 //   summary.json    sim_time_s, control_loop_cycles, control_rate_hz, cpu_load, steps,
 //                   ram_high_water_bytes, faults, resets, and more
+//   report.html     the run to look at: the arm in 3D, plots, the summary (report.h)
 //   serial_out.bin  what the firmware sent on UART0
 //   trace.vcd       with --vcd
 // This is the API the scenario tests use: run_scenario() gives the rows and measurements in
@@ -34,6 +35,7 @@ class TelemetryDecoder {
 struct RunOptions {
   std::string elf;
   std::string out_dir;   // empty: write no files
+  std::string title;     // the report's heading (the scenario's name)
   bool vcd = false;
   double sample_hz = 100;  // trajectory rows per simulated second (>= 100)
   plant::PlantConfig plant;
@@ -58,7 +60,8 @@ struct RunResult {
 
 using RowCallback = std::function<void(const sim::ArmSimulator&, const TrajectoryRow&)>;
 
-// Runs the scenario; with out_dir set, writes trajectory.csv, summary.json (and trace.vcd).
+// Runs the scenario; with out_dir set, writes trajectory.csv, summary.json, report.html (and
+// trace.vcd).
 // Throws std::runtime_error when the ELF cannot be loaded or the files cannot be written.
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options, const RowCallback& on_row = nullptr);
 

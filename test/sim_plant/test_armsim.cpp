@@ -143,7 +143,7 @@ TEST(Armsim, WritesTheSpecsFiles) {
 
 TEST(Armsim, SameElfAndScenarioSameFiles) {
   const auto scenario = parse_scenario("init 0 0.5 1.0 -2.7 0.3 0\n0 joystick 0.3 -0.4\n0.85 estop down\n1.0 end\n");
-  std::string csv[2], json[2];
+  std::string csv[2], json[2], report[2];
   for (int k = 0; k < 2; ++k) {
     armsim::RunOptions options;
     options.elf = kImage;
@@ -151,8 +151,11 @@ TEST(Armsim, SameElfAndScenarioSameFiles) {
     armsim::run_scenario(scenario, options);
     csv[k] = read_file(options.out_dir + "/trajectory.csv");
     json[k] = read_file(options.out_dir + "/summary.json");
+    report[k] = read_file(options.out_dir + "/report.html");
   }
   EXPECT_EQ(csv[0], csv[1]);
+  EXPECT_FALSE(report[0].empty());
+  EXPECT_EQ(report[0], report[1]);
   EXPECT_EQ(json[0].substr(json[0].find("\"completed\"")), json[1].substr(json[1].find("\"completed\"")));
 }
 
