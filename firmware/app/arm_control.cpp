@@ -307,7 +307,8 @@ void configure(Settings& settings) {
     c.ramp().configure(kRampConfig[i]);
     g_homing[i].configure(core::HomingConfig{kHomingDir[i], steps_per_s(i, kHomingFast_crad_s[i]),
                                              steps_per_s(i, kHomingSlow_crad_s[i]), steps_of_deg(i, kHomingBackOff_deg[i]),
-                                             steps_of_deg(i, kHomeSwitch_deg[i]), steps_of_deg(i, kHomingMaxTravel_deg[i])});
+                                             steps_of_deg(i, kHomeSwitch_deg[i]), steps_of_deg(i, kHomingMaxTravel_deg[i]),
+                                             steps_per_s(i, kHomingSlow_crad_s[i]) * kSwitchDelay_ms / 1000});
   }
 
   using L = kin::JointLimits<Fixed>;

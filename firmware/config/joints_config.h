@@ -31,6 +31,10 @@ constexpr int16_t kHomingFast_crad_s[3] = {15, 30, 40};
 constexpr int16_t kHomingSlow_crad_s[3] = {3, 3, 5};
 constexpr int16_t kHomingBackOff_deg[3] = {3, 3, 6};
 constexpr int16_t kHomingMaxTravel_deg[3] = {200, 200, 400};
+// The limit switches' RC filter (47 kOhm x 1 uF, seed 2) and optocoupler see a closing about
+// two time constants late; homing corrects its slow approach by that delay. Measured in the
+// simulator's model of the board; measure it on a real board.
+constexpr int16_t kSwitchDelay_ms = 94;
 
 // The ready pose after homing (off the singular J5 = -90 deg), J1..J6, deg
 constexpr int16_t kReadyPose_deg[6] = {70, 20, -70, 50, -30, 0};

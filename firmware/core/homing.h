@@ -6,7 +6,8 @@
 //   seek_slow   towards it again at the slow speed (the switch's RC filter delays its edge by
 //               tens of ms: slowly, that delay costs a fraction of a mrad)
 //   settle      it closed: brake, and set the position count so that the step at which the
-//               switch closed is home_steps
+//               switch closed (its filter's delay, trigger_lag_steps, before it was seen) is
+//               home_steps
 //   done / failed (no switch within max_travel_steps, or still closed after backing off)
 //
 // The ramp is the joint's StepRamp (commanded by the caller inside its Command scope); moving
@@ -25,6 +26,7 @@ struct HomingConfig {
   int32_t back_off_steps;
   int32_t home_steps;         // the joint's position where the switch closes, moving in dir
   int32_t max_travel_steps;   // seeking further than this without a switch is a failure
+  int32_t trigger_lag_steps;  // steps made at the slow speed between the switch closing and being seen
 };
 
 enum class HomingPhase : uint8_t { idle, seek_fast, brake, back_off, seek_slow, settle, done, failed };
@@ -86,7 +88,7 @@ class StepperHoming {
         break;
       case HomingPhase::settle:
         if (!moving) {
-          ramp.set_position(c_.home_steps + (position - trigger_));
+          ramp.set_position(c_.home_steps + c_.dir * c_.trigger_lag_steps + (position - trigger_));
           phase_ = HomingPhase::done;
         }
         break;
@@ -109,7 +111,7 @@ class StepperHoming {
     phase_ = HomingPhase::failed;
   }
 
-  HomingConfig c_{1, 0, 0, 0, 0, 0};
+  HomingConfig c_{1, 0, 0, 0, 0, 0, 0};
   HomingPhase phase_ = HomingPhase::idle;
   int32_t start_ = 0;
   int32_t trigger_ = 0;
