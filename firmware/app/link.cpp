@@ -147,8 +147,8 @@ void poll(Requests& rq, uint16_t loop_cycles) {
     if (g_parser.feed(byte)) reply(g_parser.frame(), handle(g_parser.frame(), rq));
   }
   if (g_velocity_age_ms != 0xFFFF) ++g_velocity_age_ms;
-  rq.velocity_fresh = g_velocity_age_ms < config::kVelocityTimeout_ms;
-  if (++g_since_state_ms >= config::kTelemetryPeriod_ms) {
+  rq.velocity_fresh = g_velocity_age_ms < protocol::kVelocityTimeout_ms;
+  if (++g_since_state_ms >= protocol::kStatePeriod_ms) {
     g_since_state_ms = 0;
     send_state();
   }

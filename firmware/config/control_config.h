@@ -8,8 +8,6 @@ namespace wmra {
 namespace config {
 
 constexpr uint16_t kLoopHz = 1000;
-constexpr uint16_t kTelemetryPeriod_ms = 20;   // state frames at 50 Hz
-constexpr uint16_t kVelocityTimeout_ms = 100;  // a streamed velocity older than this is zero
 constexpr uint8_t kMaxRxBytesPerTick = 32;     // serial bytes parsed per tick (bounds the loop)
 
 // Joystick (lib/control/joystick.h), in ADC counts and Q15 per tick at 1 kHz
@@ -43,8 +41,6 @@ constexpr uint16_t kGripperStart_us = 1500;
 constexpr uint16_t kGripperRate_us_per_s = 500;
 
 static_assert(kLoopHz == 1000, "the loop's constants (ramps, gains per tick) assume 1 kHz");
-static_assert(kTelemetryPeriod_ms >= 10 && kTelemetryPeriod_ms <= 20, "state frames at 50 to 100 Hz");
-static_assert(kVelocityTimeout_ms >= 20 && kVelocityTimeout_ms <= 100, "SPEC 6: stop within 100 ms");
 static_assert(kStickDeadZone_permille >= 0 && kStickDeadZone_permille < 200, "dead zone below 20 %");
 static_assert(kStickExpo_permille >= 0 && kStickExpo_permille <= 1000, "expo in [0, 1]");
 static_assert(kStickRise_ms >= 50 && kStickFall_ms >= 20, "the stick's velocity ramps: no step changes");
