@@ -100,7 +100,7 @@ TEST(FirmwareStartUp, HomesAndReachesTheReadyPose) {
   EXPECT_TRUE(rig.sim.measurements().sim_faults.empty());
 }
 
-// S5: the safety button turns every output off within 1 ms, and nothing is driven (no step,
+// S5: the safety button turns every output off from its interrupt (well within 1 ms), and nothing is driven (no step,
 // no PWM) until it is released and the arm re-armed. (A joint moving at the press coasts:
 // the drivers are off, as SPEC 6 asks.)
 TEST(FirmwareSafety, S5SafetyButtonStopsUntilReleasedAndRearmed) {
@@ -114,7 +114,10 @@ TEST(FirmwareSafety, S5SafetyButtonStopsUntilReleasedAndRearmed) {
   const sim::Measurements m = rig.sim.measurements();
   ASSERT_EQ(m.estop.size(), 1u);
   ASSERT_GE(m.estop[0].outputs_off_s, 0) << "outputs still on";
-  EXPECT_LE(m.estop[0].outputs_off_s - m.estop[0].pressed_s, 0.001);
+  // SPEC 6: from the button's interrupt, not the next control tick (up to 1 ms later)
+  const double latency_s = m.estop[0].outputs_off_s - m.estop[0].pressed_s;
+  EXPECT_LE(latency_s, 100e-6);
+  RecordProperty("estop_latency_us", std::to_string(latency_s * 1e6));
   rig.run_to(t_running + 1.0);
   EXPECT_EQ(rig.telemetry.state(), core::ArmState::stopped);
   const sim::Measurements at_stop = rig.sim.measurements();
