@@ -1,0 +1,260 @@
+// tools/telemetry: the JSON form of every frame, the stream's counts, and the wmra-telemetry
+// command (encode -> decode through a pipe, exit codes of bad input).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/faults.h"
+#include "core/resolved_rate.h"
+#include "telemetry_json.h"
+
+using namespace wmra;
+using namespace wmra::protocol;
+using telemetry::to_json;
+
+namespace {
+
+Frame parse_one(const std::vector<uint8_t>& bytes) {
+  Parser p;
+  for (uint8_t b : bytes) {
+    if (p.feed(b)) return p.frame();
+  }
+  ADD_FAILURE() << "no frame";
+  return Frame{};
+}
+
+template <class Msg>
+std::vector<uint8_t> message_bytes(const Msg& m, uint8_t seq) {
+  std::vector<uint8_t> out(kMaxFrameBytes);
+  out.resize(write_message(m, seq, out.data()));
+  return out;
+}
+
+std::vector<uint8_t> frame_bytes(uint8_t type, uint8_t seq, const std::vector<uint8_t>& payload) {
+  std::vector<uint8_t> out(payload.size() + kFrameOverhead);
+  out.resize(write_frame(type, seq, payload.data(), (uint8_t)payload.size(), out.data()));
+  return out;
+}
+
+std::vector<uint8_t> from_hex(const std::string& hex) {
+  std::vector<uint8_t> bytes;
+  for (size_t i = 0; i + 1 < hex.size(); i += 2) bytes.push_back((uint8_t)std::stoul(hex.substr(i, 2), nullptr, 16));
+  return bytes;
+}
+
+const std::string kOut = TELEMETRY_TEST_OUT;
+
+struct CliRun {
+  int status;
+  std::string out, err;
+};
+// runs wmra-telemetry with args (and stdin from a file when given); ctest runs the tests in
+// parallel, so each has a stderr file of its own
+CliRun cli(const std::string& args, const std::string& stdin_path = "/dev/null") {
+  const std::string err_path = kOut + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".stderr";
+  CliRun r{-1, "", ""};
+  FILE* p = popen((std::string(TELEMETRY_BIN) + " " + args + " < " + stdin_path + " 2> " + err_path).c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
+  const int s = pclose(p);
+  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  std::ifstream e(err_path);
+  std::stringstream ss;
+  ss << e.rdbuf();
+  r.err = ss.str();
+  return r;
+}
+
+void write_bytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream(path, std::ios::binary).write((const char*)bytes.data(), (std::streamsize)bytes.size());
+}
+
+}  // namespace
+
+TEST(TelemetryJson, StateFrame) {
+  StateMsg s{};
+  s.t_ms = 1020;
+  s.state = 4;
+  s.mode = 0;
+  s.faults = core::fault_mask(3) | core::fault_mask(core::kFaultBitStickInvalid) | core::fault_mask(20);
+  s.slowed_by = core::kSlowSingular | core::kSlowJointSpeed;
+  s.reset_cause = 1 << 3;
+  s.switches = 1 << 0 | 1 << 10;
+  s.q_mrad[1] = -785;
+  s.qd_mrad_s[5] = 12;
+  s.p_0p1mm[0] = 10770;
+  s.stick_permille[1] = -1000;
+  s.speed_scale_pct = 80;
+  s.loop_cycles_max = 5123;
+  s.rx_crc_errors = 1;
+  s.rx_framing_errors = 2;
+  s.rx_rejected = 3;
+  EXPECT_EQ(to_json(parse_one(message_bytes(s, 12))),
+            "{\"type\":\"state\",\"seq\":12,\"t_ms\":1020,\"state\":\"running\",\"mode\":\"xy\","
+            "\"faults\":[\"j2_rail\",\"stick_invalid\",\"bit_20\"],\"slowed_by\":[\"singular\",\"joint_speed\"],"
+            "\"reset_cause\":[\"watchdog\"],\"switches\":[\"j1_low\",\"j6_zero\"],\"q_mrad\":[0,-785,0,0,0,0],"
+            "\"qd_mrad_s\":[0,0,0,0,0,12],\"p_0p1mm\":[10770,0,0],\"stick_permille\":[0,-1000],\"speed_scale_pct\":80,"
+            "\"loop_cycles_max\":5123,\"rx_crc_errors\":1,\"rx_framing_errors\":2,\"rx_rejected\":3}");
+  s.state = 9;
+  s.mode = 7;
+  const std::string unknown = to_json(parse_one(message_bytes(s, 12)));
+  EXPECT_NE(unknown.find("\"state\":\"unknown_9\",\"mode\":\"unknown_7\""), std::string::npos) << unknown;
+}
+
+TEST(TelemetryJson, ReplyBootAndCommands) {
+  EXPECT_EQ(to_json(parse_one(message_bytes(ReplyMsg{(uint8_t)MsgType::cmd_mode, 3, 0}, 40))),
+            "{\"type\":\"reply\",\"seq\":40,\"command\":\"mode\",\"command_seq\":3,\"status\":\"ok\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(ReplyMsg{0x30, 4, 1}, 41))),
+            "{\"type\":\"reply\",\"seq\":41,\"command\":\"unknown_48\",\"command_seq\":4,\"status\":\"unknown_command\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{1 << 3, 1}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\"],\"calibration\":\"defaults_blank\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x05, 0}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\",\"brown_out\"],\"calibration\":\"eeprom\"}");
+  EXPECT_EQ(to_json(parse_one(frame_bytes(0x16, 5, {2}))),
+            "{\"type\":\"command\",\"command\":\"store_pose\",\"seq\":5,\"slot\":2}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(VelocityCmd{{150, 0, -1}, {0, 800, 0}}, 6))),
+            "{\"type\":\"command\",\"command\":\"velocity\",\"seq\":6,\"v_mm_s\":[150,0,-1],\"w_mrad_s\":[0,800,0]}");
+}
+
+TEST(TelemetryJson, FramesThatDoNotFitTheirType) {
+  EXPECT_EQ(to_json(parse_one(frame_bytes(0x13, 1, {101}))),
+            "{\"type\":\"command\",\"command\":\"speed_scale\",\"seq\":1,\"error\":\"bad_argument\",\"payload\":\"65\"}");
+  EXPECT_EQ(to_json(parse_one(frame_bytes(0x10, 2, {0xAB}))),
+            "{\"type\":\"command\",\"command\":\"stop\",\"seq\":2,\"error\":\"bad_length\",\"payload\":\"ab\"}");
+  EXPECT_EQ(to_json(parse_one(frame_bytes(0x01, 3, {1, 2}))),
+            "{\"type\":\"state\",\"seq\":3,\"error\":\"bad_length\",\"payload\":\"0102\"}");
+  EXPECT_EQ(to_json(parse_one(frame_bytes(0x42, 4, {0xFF}))),
+            "{\"type\":\"unknown\",\"type_id\":66,\"seq\":4,\"payload\":\"ff\"}");
+}
+
+TEST(FrameStream, CountsSeqGapsOfTheFirmwareOnly) {
+  telemetry::FrameStream s;
+  std::vector<uint8_t> bytes;
+  auto add = [&](const std::vector<uint8_t>& b) { bytes.insert(bytes.end(), b.begin(), b.end()); };
+  add(message_bytes(BootMsg{1, 0}, 0));
+  add(message_bytes(StateMsg{}, 1));
+  add(frame_bytes(0x10, 77, {}));                  // a host command: its own numbers
+  add(message_bytes(ReplyMsg{0x10, 77, 0}, 2));
+  add(message_bytes(StateMsg{}, 5));               // 3 and 4 lost: one gap
+  add({0xA5, 0x01, 0x01, 0x06, 0x00, 0x00, 0x00});  // a bad CRC
+  add(message_bytes(StateMsg{}, 7));               // 6 lost with it: a second gap
+  add(message_bytes(BootMsg{8, 0}, 0));            // a reset: no gap
+  add(message_bytes(StateMsg{}, 1));
+  int frames = 0;
+  for (uint8_t b : bytes) frames += s.feed(b);
+  EXPECT_EQ(frames, 8);
+  EXPECT_EQ(s.frames(), 8u);
+  EXPECT_EQ(s.seq_gaps(), 2u);
+  EXPECT_EQ(s.summary(), "frames 8, crc errors 1, framing errors 0, skipped bytes 0, seq gaps 2");
+}
+
+TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
+  struct Case {
+    std::string args, json;
+  };
+  const Case cases[] = {
+      {"stop", "{\"type\":\"command\",\"command\":\"stop\",\"seq\":0}"},
+      {"rearm --seq 255", "{\"type\":\"command\",\"command\":\"rearm\",\"seq\":255}"},
+      {"home", "{\"type\":\"command\",\"command\":\"home\",\"seq\":0}"},
+      {"--seq 3 mode xz", "{\"type\":\"command\",\"command\":\"mode\",\"seq\":3,\"mode\":\"xz\"}"},
+      {"mode gripper", "{\"type\":\"command\",\"command\":\"mode\",\"seq\":0,\"mode\":\"gripper\"}"},
+      {"speed 50", "{\"type\":\"command\",\"command\":\"speed_scale\",\"seq\":0,\"speed_scale_pct\":50}"},
+      {"goto 1", "{\"type\":\"command\",\"command\":\"goto_pose\",\"seq\":0,\"slot\":1}"},
+      {"store 3", "{\"type\":\"command\",\"command\":\"store_pose\",\"seq\":0,\"slot\":3}"},
+      {"velocity 0.15 -0.0504 0 0 -0.8 32.767",
+       "{\"type\":\"command\",\"command\":\"velocity\",\"seq\":0,\"v_mm_s\":[150,-50,0],\"w_mrad_s\":[0,-800,32767]}"},
+  };
+  std::vector<uint8_t> all;
+  std::string expected;
+  for (const Case& c : cases) {
+    const CliRun r = cli("encode " + c.args);
+    ASSERT_EQ(r.status, 0) << c.args << ": " << r.err;
+    ASSERT_EQ(r.out.back(), '\n');
+    const std::string hex = r.out.substr(0, r.out.size() - 1);
+    EXPECT_EQ(hex.find_first_not_of("0123456789abcdef"), std::string::npos) << hex;
+    const auto bytes = from_hex(hex);
+    EXPECT_EQ(to_json(parse_one(bytes)), c.json) << c.args;
+    all.insert(all.end(), bytes.begin(), bytes.end());
+    expected += c.json + "\n";
+  }
+  all.push_back(0x00);  // a byte outside any frame
+  const std::string path = kOut + "/commands.bin";
+  write_bytes(path, all);
+  CliRun r = cli("decode", path);  // stdin
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(r.out, expected);
+  EXPECT_EQ(r.err, "wmra-telemetry: frames 9, crc errors 0, framing errors 0, skipped bytes 1, seq gaps 0\n");
+  r = cli("decode " + path);  // a file
+  EXPECT_EQ(r.out, expected);
+  EXPECT_EQ(cli("encode stop").out, "a50110000017b1\n");  // the CRC by hand: docs/telemetry.md
+}
+
+TEST(WmraTelemetryCli, DecodeCountsWhatWentWrong) {
+  std::vector<uint8_t> bytes = message_bytes(BootMsg{1, 0}, 0);
+  const auto state = message_bytes(StateMsg{}, 2);  // seq 1 missing
+  bytes.insert(bytes.end(), state.begin(), state.end());
+  auto bad = message_bytes(StateMsg{}, 3);
+  bad[10] ^= 1;
+  bytes.insert(bytes.end(), bad.begin(), bad.end());
+  for (uint8_t b : {0xA5, 0x07, 0x33}) bytes.push_back(b);  // version 7, then a stray byte
+  const std::string path = kOut + "/faulty.bin";
+  write_bytes(path, bytes);
+  const CliRun r = cli("decode " + path);
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 2);
+  EXPECT_EQ(r.err, "wmra-telemetry: frames 2, crc errors 1, framing errors 1, skipped bytes 1, seq gaps 1\n");
+}
+
+TEST(WmraTelemetryCli, BadInputExitsWithTwo) {
+  const char* bad[] = {
+      "",
+      "frobnicate",
+      "encode",
+      "encode jump",
+      "encode stop now",
+      "encode mode",
+      "encode mode xw",
+      "encode mode 1",
+      "encode speed 101",
+      "encode speed -1",
+      "encode speed 5.5",
+      "encode goto 4",
+      "encode store x",
+      "encode velocity 0.1 0 0 0 0",
+      "encode velocity 32.768 0 0 0 0 0",
+      "encode velocity 0 0 0 0 0 -40",
+      "encode velocity nan 0 0 0 0 0",
+      "encode stop --seq 256",
+      "encode stop --seq",
+      "decode a b",
+      "listen",
+      "listen /dev/ttyUSB0 --send",
+      "listen /dev/ttyUSB0 --send a5f",
+      "listen /dev/ttyUSB0 --send zz",
+  };
+  for (const char* args : bad) {
+    const CliRun r = cli(args);
+    EXPECT_EQ(r.status, 2) << args;
+    EXPECT_EQ(r.out, "") << args;
+    EXPECT_EQ(r.err.rfind("wmra-telemetry: ", 0), 0u) << args << ": " << r.err;
+    EXPECT_NE(r.err.find("usage:"), std::string::npos) << args;
+  }
+  EXPECT_NE(cli("encode speed 101").err.find("from 0 to 100, not '101'"), std::string::npos);
+  EXPECT_NE(cli("encode mode xw").err.find("xy, xz, r1, r2 or gripper"), std::string::npos);
+}
+
+TEST(WmraTelemetryCli, UnopenableInputExitsWithThree) {
+  CliRun r = cli("decode /nonexistent/serial.bin");
+  EXPECT_EQ(r.status, 3);
+  EXPECT_NE(r.err.find("/nonexistent/serial.bin"), std::string::npos);
+  r = cli("listen /dev/null");  // not a serial port
+  EXPECT_EQ(r.status, 3);
+  EXPECT_NE(r.err.find("not a serial port"), std::string::npos) << r.err;
+}
