@@ -6,6 +6,7 @@
 
 #include "armsim/firmware_telemetry.h"
 #include "core/faults.h"
+#include "protocol_frames.h"
 
 using namespace wmra;
 using namespace wmra::protocol;
@@ -19,9 +20,7 @@ struct Feeder {
   }
   template <class Msg>
   void message(const Msg& m, uint8_t seq) {
-    uint8_t frame[kMaxFrameBytes];
-    const uint8_t n = write_message(m, seq, frame);
-    bytes(std::vector<uint8_t>(frame, frame + n));
+    bytes(protocol_frames::message_bytes(m, seq));
   }
 };
 

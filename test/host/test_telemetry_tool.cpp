@@ -11,10 +11,14 @@
 
 #include "core/faults.h"
 #include "core/resolved_rate.h"
+#include "protocol_frames.h"
+#include "sim_run.h"
 #include "telemetry_json.h"
 
 using namespace wmra;
 using namespace wmra::protocol;
+using wmra::protocol_frames::frame_bytes;
+using wmra::protocol_frames::message_bytes;
 using telemetry::to_json;
 
 namespace {
@@ -26,19 +30,6 @@ Frame parse_one(const std::vector<uint8_t>& bytes) {
   }
   ADD_FAILURE() << "no frame";
   return Frame{};
-}
-
-template <class Msg>
-std::vector<uint8_t> message_bytes(const Msg& m, uint8_t seq) {
-  std::vector<uint8_t> out(kMaxFrameBytes);
-  out.resize(write_message(m, seq, out.data()));
-  return out;
-}
-
-std::vector<uint8_t> frame_bytes(uint8_t type, uint8_t seq, const std::vector<uint8_t>& payload) {
-  std::vector<uint8_t> out(payload.size() + kFrameOverhead);
-  out.resize(write_frame(type, seq, payload.data(), (uint8_t)payload.size(), out.data()));
-  return out;
 }
 
 std::vector<uint8_t> from_hex(const std::string& hex) {
@@ -57,19 +48,12 @@ struct CliRun {
 // parallel, so each has a stderr file of its own
 CliRun cli(const std::string& args, const std::string& stdin_path = "/dev/null") {
   const std::string err_path = kOut + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".stderr";
-  CliRun r{-1, "", ""};
-  FILE* p = popen((std::string(TELEMETRY_BIN) + " " + args + " < " + stdin_path + " 2> " + err_path).c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int s = pclose(p);
-  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  const simrun::CommandRun r =
+      simrun::run_command(std::string(TELEMETRY_BIN) + " " + args + " < " + stdin_path + " 2> " + err_path);
   std::ifstream e(err_path);
   std::stringstream ss;
   ss << e.rdbuf();
-  r.err = ss.str();
-  return r;
+  return {r.status, r.out, ss.str()};
 }
 
 void write_bytes(const std::string& path, const std::vector<uint8_t>& bytes) {

@@ -12,6 +12,7 @@
 #include "armsim/firmware_telemetry.h"
 #include "armsim/run.h"
 #include "armsim/scenario.h"
+#include "protocol_frames.h"
 #include "telemetry_json.h"
 
 using namespace wmra;
@@ -41,9 +42,9 @@ const std::string kImage = std::string(SIM_IMAGES) + "/sim_bridges_avr.elf";
 const std::string kLoopImage = std::string(SIM_IMAGES) + "/sim_loop_avr.elf";
 const std::string kTelemetryImage = std::string(SIM_IMAGES) + "/sim_telemetry_avr.elf";
 
-std::string frame_hex(protocol::MsgType type, uint8_t seq, std::vector<uint8_t> payload) {
-  uint8_t frame[protocol::kMaxFrameBytes];
-  return telemetry::to_hex(frame, protocol::write_frame((uint8_t)type, seq, payload.data(), (uint8_t)payload.size(), frame));
+std::string frame_hex(protocol::MsgType type, uint8_t seq, const std::vector<uint8_t>& payload) {
+  const std::vector<uint8_t> frame = protocol_frames::frame_bytes((uint8_t)type, seq, payload);
+  return telemetry::to_hex(frame.data(), frame.size());
 }
 
 }  // namespace

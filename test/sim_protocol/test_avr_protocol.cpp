@@ -54,17 +54,8 @@ TEST_F(AvrProtocol, SameBytesAsTheHost) {
 }
 
 TEST_F(AvrProtocol, CyclesPerCall) {
-  struct Budget {
-    const char* name;
-    double max_cycles;
-  };
-  const Budget budgets[] = {
-      {"write_state_frame", 3000}, {"parse_state_frame", 8000}, {"decode_state", 1000}, {"check_command", 200}};
-  for (const Budget& b : budgets) {
-    const wmra::simrun::Timing t = wmra::simrun::timing(json_, b.name);
-    ASSERT_GT(t.mean, 0) << b.name;
-    std::printf("%-20s mean %7.1f  max %6.0f cycles\n", b.name, t.mean, t.max);
-    RecordProperty(b.name, std::to_string(t.mean));
-    EXPECT_LE(t.max, b.max_cycles) << b.name;
-  }
+  wmra::simrun::expect_budgets(json_, {{"write_state_frame", 3000},
+                                       {"parse_state_frame", 8000},
+                                       {"decode_state", 1000},
+                                       {"check_command", 200}});
 }

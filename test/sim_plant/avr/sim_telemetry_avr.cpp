@@ -3,9 +3,7 @@
 // every command frame gets a reply with check_command's status, a valid mode or speed_scale
 // command sets what the state frames report, and the parser's counters go out in them.
 // Nothing moves: this image only talks.
-#include <avr/interrupt.h>
-#include <avr/io.h>
-
+#include "board_io.h"
 #include "protocol/messages.h"
 
 namespace pr = wmra::protocol;
@@ -15,18 +13,11 @@ volatile uint8_t rx[64];
 volatile uint8_t head, tail;
 uint8_t seq;
 
-void send(const uint8_t* bytes, uint8_t n) {
-  for (uint8_t i = 0; i < n; ++i) {
-    while (!(UCSR0A & (1 << UDRE0))) {
-    }
-    UDR0 = bytes[i];
-  }
-}
-
 template <class Msg>
 void send_message(const Msg& m) {
   uint8_t frame[pr::kMaxFrameBytes];
-  send(frame, pr::write_message(m, seq++, frame));
+  const uint8_t n = pr::write_message(m, seq++, frame);
+  for (uint8_t i = 0; i < n; ++i) io::uart0_send(frame[i]);
 }
 }  // namespace
 
@@ -35,13 +26,10 @@ ISR(USART0_RX_vect) { rx[head++ & 63] = UDR0; }
 int main() {
   const uint8_t cause = MCUSR;
   MCUSR = 0;
-  UCSR0A = 1 << U2X0;
-  UBRR0 = 16;  // 117,647 baud, 2.1 % from 115,200
-  UCSR0B = (1 << RXEN0) | (1 << TXEN0) | (1 << RXCIE0);
-  UCSR0C = 3 << UCSZ00;
+  io::uart0_begin();
   TCCR1A = 0;
-  OCR1A = 1249;                                      // 20 ms at 16 MHz / 256
-  TCCR1B = (1 << WGM12) | (1 << CS12);               // CTC, clk / 256
+  OCR1A = 1249;                         // 20 ms at 16 MHz / 256
+  TCCR1B = (1 << WGM12) | (1 << CS12);  // CTC, clk / 256
   send_message(pr::BootMsg{cause, (uint8_t)pr::Calibration::defaults_blank});
   sei();
 
