@@ -1,13 +1,21 @@
 // tools/telemetry: the JSON form of every frame, the stream's counts, and the wmra-telemetry
-// command (encode -> decode through a pipe, exit codes of bad input).
+// command (encode -> decode through a pipe, exit codes of bad input, listen on a pseudo-terminal).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "core/faults.h"
 #include "core/resolved_rate.h"
@@ -37,6 +45,8 @@ std::vector<uint8_t> from_hex(const std::string& hex) {
   for (size_t i = 0; i + 1 < hex.size(); i += 2) bytes.push_back((uint8_t)std::stoul(hex.substr(i, 2), nullptr, 16));
   return bytes;
 }
+
+std::string frame_hex_of(const std::vector<uint8_t>& bytes) { return telemetry::to_hex(bytes.data(), bytes.size()); }
 
 const std::string kOut = TELEMETRY_TEST_OUT;
 
@@ -241,4 +251,68 @@ TEST(WmraTelemetryCli, UnopenableInputExitsWithThree) {
   r = cli("listen /dev/null");  // not a serial port
   EXPECT_EQ(r.status, 3);
   EXPECT_NE(r.err.find("not a serial port"), std::string::npos) << r.err;
+}
+
+// listen on a pseudo-terminal: the port is set up, frames are decoded as they come, --send
+// goes out once the first frame has arrived, and Ctrl-C ends it with the summary
+TEST(WmraTelemetryCli, ListenOnAPseudoTerminal) {
+  const int master = posix_openpt(O_RDWR | O_NOCTTY);
+  ASSERT_GE(master, 0);
+  ASSERT_EQ(grantpt(master), 0);
+  ASSERT_EQ(unlockpt(master), 0);
+  const std::string port = ptsname(master);
+  const std::string out_path = kOut + "/listen.out", err_path = kOut + "/listen.err";
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&files, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  const std::string command = frame_hex_of(frame_bytes((uint8_t)MsgType::cmd_stop, 9, {}));
+  std::vector<std::string> args = {TELEMETRY_BIN, "listen", port, "--send", command};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(&a[0]);
+  argv.push_back(nullptr);
+  pid_t pid;
+  ASSERT_EQ(posix_spawn(&pid, TELEMETRY_BIN, &files, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&files);
+
+  // boot frames until the command comes back: the first ones may go before the port is open
+  const auto boot = message_bytes(BootMsg{1, 0}, 0);
+  std::string received;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (received.find(command) == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+    ASSERT_EQ(write(master, boot.data(), boot.size()), (ssize_t)boot.size());
+    pollfd p{master, POLLIN, 0};
+    if (poll(&p, 1, 50) == 1) {
+      uint8_t buf[256];
+      const ssize_t n = read(master, buf, sizeof buf);
+      if (n > 0) received += frame_hex_of(std::vector<uint8_t>(buf, buf + n));
+    }
+  }
+  EXPECT_NE(received.find(command), std::string::npos) << received;
+  const auto reply = message_bytes(ReplyMsg{(uint8_t)MsgType::cmd_stop, 9, 0}, 1);
+  ASSERT_EQ(write(master, reply.data(), reply.size()), (ssize_t)reply.size());
+  std::string out;
+  while (out.find("\"type\":\"reply\"") == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+    usleep(20000);
+    std::ifstream f(out_path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    out = ss.str();
+  }
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  close(master);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+  EXPECT_NE(out.find("{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\"],\"calibration\":\"eeprom\"}\n"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("{\"type\":\"reply\",\"seq\":1,\"command\":\"stop\",\"command_seq\":9,\"status\":\"ok\"}\n"),
+            std::string::npos)
+      << out;
+  std::ifstream e(err_path);
+  std::stringstream err;
+  err << e.rdbuf();
+  EXPECT_NE(err.str().find("wmra-telemetry: frames "), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find(", seq gaps 0\n"), std::string::npos) << err.str();
 }
