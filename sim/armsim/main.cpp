@@ -4,6 +4,8 @@
 //
 // Writes DIR/trajectory.csv, DIR/summary.json and DIR/report.html (and DIR/trace.vcd with
 // --vcd); see run.h.
+// The firmware's telemetry is decoded on the way (FirmwareTelemetry): mode, state and faults
+// in those files, its counts on stderr.
 // Without --elf it runs the firmware image of this build (ARMSIM_DEFAULT_ELF, set by CMake).
 // Exit status: 0 the scenario ran to its end; 1 the simulated core crashed before it;
 // 2 a bad command line or scenario (the message names the line); 3 the ELF or the output
@@ -103,6 +105,10 @@ int main(int argc, char** argv) {
   const double simulated = result.measurements.sim_time_s;
   std::fprintf(stderr, "armsim: %.3f s simulated in %.3f s (%.1fx real time); %s/trajectory.csv, summary.json, report.html\n",
                simulated, wall, wall > 0 ? simulated / wall : 0.0, out_dir.c_str());
+  const wmra::armsim::TelemetrySummary& t = result.telemetry;
+  std::fprintf(stderr, "armsim: telemetry: %llu frames, %llu CRC errors, %llu seq gaps, %llu replies\n",
+               (unsigned long long)t.frames, (unsigned long long)t.crc_errors, (unsigned long long)t.seq_gaps,
+               (unsigned long long)t.replies);
   for (const auto& f : result.measurements.sim_faults) std::fprintf(stderr, "armsim: %s\n", f.c_str());
   return result.completed ? 0 : 1;
 }

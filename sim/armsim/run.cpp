@@ -7,6 +7,7 @@
 
 #include <sys/stat.h>
 
+#include "armsim/firmware_telemetry.h"
 #include "armsim/json.h"
 #include "armsim/report.h"
 #include "kinematics/forward_kinematics.h"
@@ -22,6 +23,13 @@ FILE* open_for_writing(const std::string& path) {
   FILE* f = std::fopen(path.c_str(), "w");
   if (!f) throw std::runtime_error("cannot write " + path);
   return f;
+}
+
+// one summary.json line: "  \"key\": [\"a\", \"b\"],"
+void write_string_list(FILE* f, const char* key, const std::vector<std::string>& list) {
+  std::fprintf(f, "  \"%s\": [", key);
+  for (size_t i = 0; i < list.size(); ++i) std::fprintf(f, "%s%s", i ? ", " : "", json_string(list[i]).c_str());
+  std::fprintf(f, "],\n");
 }
 
 void apply(sim::ArmSimulator& sim, const Event& e) {
@@ -65,16 +73,17 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
 
   RunResult result;
   sim::ArmSimulator sim(config);
+  FirmwareTelemetry own_telemetry;
+  TelemetryDecoder& telemetry = options.telemetry ? *options.telemetry : own_telemetry;
   size_t uart_fed = 0;
+  auto feed_telemetry = [&](const std::vector<uint8_t>& out) {
+    for (; uart_fed < out.size(); ++uart_fed) telemetry.feed(out[uart_fed]);
+  };
   auto row_now = [&](const sim::ArmSimulator& s) {
-    TelemetryDecoder* t = options.telemetry;
-    if (t) {
-      const auto& out = s.uart_output();
-      for (; uart_fed < out.size(); ++uart_fed) t->feed(out[uart_fed]);
-    }
+    feed_telemetry(s.uart_output());
     // the row's time is the nominal sample time: rows come at exact plant steps
     const double t_s = std::round(s.time_s() * options.sample_hz) / options.sample_hz;
-    result.trajectory.push_back(trajectory_row(t_s, s.q(), t ? t->mode() : -1, t ? t->state() : -1));
+    result.trajectory.push_back(trajectory_row(t_s, s.q(), telemetry.mode(), telemetry.state()));
     if (on_row) on_row(s, result.trajectory.back());
   };
   sim.every(1.0 / options.sample_hz, row_now);
@@ -103,7 +112,9 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
   result.completed = !crashed;
   result.measurements = sim.measurements();
   result.uart_output = sim.uart_output();
-  if (options.telemetry) result.faults = options.telemetry->faults();
+  feed_telemetry(result.uart_output);  // what came after the last row
+  result.faults = telemetry.faults();
+  result.telemetry = telemetry.summary();
 
   if (!options.out_dir.empty()) {
     FILE* serial = open_for_writing(options.out_dir + "/serial_out.bin");
@@ -163,14 +174,13 @@ void write_summary_json(const std::string& path, const RunResult& result, const 
   std::fprintf(f, "  \"ram_static_bytes\": %u,\n", m.ram_static_bytes);
   std::fprintf(f, "  \"stack_high_water_bytes\": %u,\n", m.stack_bytes);
   std::fprintf(f, "  \"flash_bytes\": %u,\n", m.flash_bytes);
-  std::fprintf(f, "  \"faults\": [");
-  for (size_t i = 0; i < result.faults.size(); ++i) std::fprintf(f, "%s%s", i ? ", " : "", json_string(result.faults[i]).c_str());
-  std::fprintf(f, "],\n");
-  std::fprintf(f, "  \"faults_source\": %s,\n",
-               json_string(options.telemetry ? "firmware telemetry" : "none: no telemetry decoder yet").c_str());
-  std::fprintf(f, "  \"sim_faults\": [");
-  for (size_t i = 0; i < m.sim_faults.size(); ++i) std::fprintf(f, "%s%s", i ? ", " : "", json_string(m.sim_faults[i]).c_str());
-  std::fprintf(f, "],\n");
+  write_string_list(f, "faults", result.faults);
+  write_string_list(f, "sim_faults", m.sim_faults);
+  const TelemetrySummary& t = result.telemetry;
+  std::fprintf(f, "  \"telemetry\": {\"frames\": %llu, \"crc_errors\": %llu, \"seq_gaps\": %llu, \"replies\": %llu},\n",
+               (unsigned long long)t.frames, (unsigned long long)t.crc_errors, (unsigned long long)t.seq_gaps,
+               (unsigned long long)t.replies);
+  write_string_list(f, "boot_reset_causes", t.boot_reset_causes);
   std::fprintf(f, "  \"resets\": %zu,\n", m.resets.size());
   std::fprintf(f, "  \"reset_log\": [");
   for (size_t i = 0; i < m.resets.size(); ++i) {
@@ -201,8 +211,6 @@ void write_summary_json(const std::string& path, const RunResult& result, const 
                (unsigned long long)m.uart_tx_bytes, (unsigned long long)m.uart_rx_bytes,
                (unsigned long long)m.uart_rx_dropped);
   std::fprintf(f, "  \"trajectory_rows\": %zu,\n", result.trajectory.size());
-  std::fprintf(f, "  \"mode_state\": %s,\n",
-               json_string(options.telemetry ? "firmware telemetry" : "-1: no telemetry decoder yet").c_str());
   std::fprintf(f, "  \"seed\": %llu,\n", (unsigned long long)options.plant.seed);
   std::fprintf(f, "  \"simavr_log\": {");
   first = true;

@@ -1,7 +1,7 @@
 // Running a scenario against a firmware image, and the files armsim writes (SPEC section 7):
 //   trajectory.csv  t,q1..q6,x,y,z,r11..r33,mode,state  (true plant angles, pose of frame 6)
 //   summary.json    sim_time_s, control_loop_cycles, control_rate_hz, cpu_load, steps,
-//                   ram_high_water_bytes, faults, resets, and more
+//                   ram_high_water_bytes, faults, resets, telemetry, and more
 //   report.html     the run to look at: the arm in 3D, plots, the summary (report.h)
 //   serial_out.bin  what the firmware sent on UART0
 //   trace.vcd       with --vcd
@@ -21,15 +21,23 @@
 namespace wmra {
 namespace armsim {
 
-// The firmware's telemetry, decoded from its UART output (the protocol is the firmware's:
-// until a decoder is given, mode and state are -1 and no firmware faults are listed).
+// What summary.json says of the firmware's telemetry
+struct TelemetrySummary {
+  uint64_t frames = 0, crc_errors = 0, seq_gaps = 0, replies = 0;
+  std::vector<std::string> boot_reset_causes;  // one per boot frame: "watchdog", "power_on+brown_out", "none"
+};
+
+// The firmware's telemetry, decoded from its UART output. run_scenario uses
+// FirmwareTelemetry (firmware_telemetry.h) unless RunOptions::telemetry names another, for
+// instance a FirmwareTelemetry of the test's own, to look at every message afterwards.
 class TelemetryDecoder {
  public:
   virtual ~TelemetryDecoder() = default;
   virtual void feed(uint8_t byte) = 0;
-  virtual int mode() const = 0;
-  virtual int state() const = 0;
+  virtual int mode() const = 0;   // -1 until known
+  virtual int state() const = 0;  // -1 until known
   virtual std::vector<std::string> faults() const = 0;
+  virtual TelemetrySummary summary() const = 0;
 };
 
 struct RunOptions {
@@ -39,7 +47,7 @@ struct RunOptions {
   bool vcd = false;
   double sample_hz = 100;  // trajectory rows per simulated second (>= 100)
   plant::PlantConfig plant;
-  TelemetryDecoder* telemetry = nullptr;
+  TelemetryDecoder* telemetry = nullptr;  // null: a FirmwareTelemetry of run_scenario's own
 };
 
 struct TrajectoryRow {
@@ -54,6 +62,7 @@ struct RunResult {
   std::vector<TrajectoryRow> trajectory;
   sim::Measurements measurements;
   std::vector<std::string> faults;  // reported by the firmware (telemetry)
+  TelemetrySummary telemetry;
   std::vector<uint8_t> uart_output;
   bool completed = false;  // ran to the scenario's end (false: the core crashed)
 };

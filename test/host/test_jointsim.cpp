@@ -2,7 +2,6 @@
 // results reproduced with lib/control's blocks in the loop (seed 0's 250-count step, seed 1's
 // relay), the arm's DC joints under the pole-placement PID, and the CLI.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +14,7 @@
 #include "plant/arm_statics.h"
 #include "plant/motors.h"
 #include "sim.h"
+#include "sim_run.h"
 
 using namespace wmra;
 using namespace wmra::jointsim;
@@ -502,21 +502,8 @@ TEST(JointsimDc, RefusesWhatCannotBeRun) {
 // ------------------------------------------------------------------------------ the binary
 
 namespace {
-struct CliRun {
-  int status;
-  std::string out;  // stdout and stderr
-};
-CliRun cli(const std::string& args) {
-  CliRun r{-1, ""};
-  FILE* p = popen((std::string(JOINTSIM_BIN) + " " + args + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.out.append(buf, n);
-  const int s = pclose(p);
-  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  return r;
-}
+using CliRun = simrun::CommandRun;
+CliRun cli(const std::string& args) { return simrun::run_command(std::string(JOINTSIM_BIN) + " " + args + " 2>&1"); }
 std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
 }  // namespace
 

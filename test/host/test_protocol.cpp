@@ -9,32 +9,26 @@
 #include <vector>
 
 #include "protocol/messages.h"
+#include "protocol_frames.h"
+#include "protocol_vectors.h"
 
 using namespace wmra::protocol;
+using wmra::protocol_frames::frame_bytes;
+using wmra::protocol_frames::message_bytes;
+using wmra::protocol_vectors::sample_state;  // every field set, negative ones too
 
 namespace {
 
 // CRC-16/CCITT-FALSE as its definition reads: MSB first, one bit at a time
-uint16_t crc_bitwise(const uint8_t* bytes, size_t n) {
-  uint16_t crc = 0xFFFF;
-  for (size_t i = 0; i < n; ++i) {
-    crc ^= (uint16_t)(bytes[i] << 8);
-    for (int b = 0; b < 8; ++b) crc = (uint16_t)(crc & 0x8000 ? (crc << 1) ^ 0x1021 : crc << 1);
-  }
+uint16_t crc_bitwise_update(uint16_t crc, uint8_t byte) {
+  crc ^= (uint16_t)(byte << 8);
+  for (int b = 0; b < 8; ++b) crc = (uint16_t)(crc & 0x8000 ? (crc << 1) ^ 0x1021 : crc << 1);
   return crc;
 }
-
-std::vector<uint8_t> frame_bytes(uint8_t type, uint8_t seq, const std::vector<uint8_t>& payload) {
-  std::vector<uint8_t> out(payload.size() + kFrameOverhead);
-  out.resize(write_frame(type, seq, payload.data(), (uint8_t)payload.size(), out.data()));
-  return out;
-}
-
-template <class Msg>
-std::vector<uint8_t> message_bytes(const Msg& m, uint8_t seq) {
-  std::vector<uint8_t> out(kMaxFrameBytes);
-  out.resize(write_message(m, seq, out.data()));
-  return out;
+uint16_t crc_bitwise(const uint8_t* bytes, size_t n) {
+  uint16_t crc = 0xFFFF;
+  for (size_t i = 0; i < n; ++i) crc = crc_bitwise_update(crc, bytes[i]);
+  return crc;
 }
 
 // feeds bytes; returns every frame completed
@@ -52,33 +46,6 @@ std::vector<uint8_t> cat(std::vector<std::vector<uint8_t>> parts) {
   return out;
 }
 
-StateMsg sample_state() {
-  StateMsg s{};
-  s.t_ms = 0x04030201u;
-  s.state = 4;
-  s.mode = 1;
-  s.faults = 0x80020008u;
-  s.slowed_by = 5;
-  s.reset_cause = 8;
-  s.switches = 0x0401;
-  const int16_t q[6] = {-1, 32767, -32768, 1571, -2, 12};
-  for (int j = 0; j < 6; ++j) {
-    s.q_mrad[j] = q[j];
-    s.qd_mrad_s[j] = (int16_t)(-100 * j - 7);
-  }
-  s.p_0p1mm[0] = 10770;
-  s.p_0p1mm[1] = -123;
-  s.p_0p1mm[2] = 1870;
-  s.stick_permille[0] = -1000;
-  s.stick_permille[1] = 999;
-  s.speed_scale_pct = 100;
-  s.loop_cycles_max = 0xBEEF;
-  s.rx_crc_errors = 1;
-  s.rx_framing_errors = 0xFFFF;
-  s.rx_rejected = 0x1234;
-  return s;
-}
-
 uint16_t le16(const uint8_t* p) { return (uint16_t)(p[0] | p[1] << 8); }
 
 }  // namespace
@@ -92,9 +59,7 @@ TEST(Crc, CheckValueAndBitwiseDefinition) {
   // every byte from every 16th register value: the nibble form is the bitwise one
   for (uint32_t reg = 0; reg <= 0xFFFF; reg += 16) {
     for (uint32_t b = 0; b < 256; ++b) {
-      uint16_t ref = (uint16_t)(reg ^ (b << 8));
-      for (int i = 0; i < 8; ++i) ref = (uint16_t)(ref & 0x8000 ? (ref << 1) ^ 0x1021 : ref << 1);
-      ASSERT_EQ(crc16_update((uint16_t)reg, (uint8_t)b), ref) << reg << " " << b;
+      ASSERT_EQ(crc16_update((uint16_t)reg, (uint8_t)b), crc_bitwise_update((uint16_t)reg, (uint8_t)b)) << reg << " " << b;
     }
   }
 }
@@ -121,29 +86,30 @@ TEST(Messages, StateOffsetsAsDocumented) {
   EXPECT_EQ(kStatePayloadBytes, 57);
   uint8_t p[kMaxPayload];
   ASSERT_EQ(encode(sample_state(), p), kStatePayloadBytes);
-  EXPECT_EQ(p[0], 0x01);  // t_ms, little-endian
-  EXPECT_EQ(p[3], 0x04);
-  EXPECT_EQ(p[4], 4);     // state
-  EXPECT_EQ(p[5], 1);     // mode
-  EXPECT_EQ(p[6], 0x08);  // faults
+  EXPECT_EQ(p[0], 0xEF);  // t_ms 0x89abcdef, little-endian
+  EXPECT_EQ(p[3], 0x89);
+  EXPECT_EQ(p[4], 6);     // state
+  EXPECT_EQ(p[5], 3);     // mode
+  EXPECT_EQ(p[6], 0x09);  // faults 0x80030009
   EXPECT_EQ(p[9], 0x80);
-  EXPECT_EQ(p[10], 5);    // slowed_by
-  EXPECT_EQ(p[11], 8);    // reset_cause
-  EXPECT_EQ(le16(p + 12), 0x0401);  // switches
-  EXPECT_EQ(le16(p + 14), 0xFFFF);  // q_mrad[0] = -1
-  EXPECT_EQ(le16(p + 16), 0x7FFF);
-  EXPECT_EQ(le16(p + 18), 0x8000);
-  EXPECT_EQ((int16_t)le16(p + 26), -7);     // qd_mrad_s[0]
-  EXPECT_EQ((int16_t)le16(p + 36), -507);   // qd_mrad_s[5]
+  EXPECT_EQ(p[10], 6);    // slowed_by
+  EXPECT_EQ(p[11], 9);    // reset_cause
+  EXPECT_EQ(le16(p + 12), 0x0421);          // switches
+  EXPECT_EQ(le16(p + 14), 0x8000);          // q_mrad[0] = -32768
+  EXPECT_EQ((int16_t)le16(p + 16), -19661);
+  EXPECT_EQ(le16(p + 24), 32767);           // q_mrad[5]
+  EXPECT_EQ((int16_t)le16(p + 26), 1000);   // qd_mrad_s[0]
+  EXPECT_EQ((int16_t)le16(p + 36), -1005);  // qd_mrad_s[5]
   EXPECT_EQ((int16_t)le16(p + 38), 10770);  // p_0p1mm
-  EXPECT_EQ((int16_t)le16(p + 42), 1870);
+  EXPECT_EQ((int16_t)le16(p + 40), -1);
+  EXPECT_EQ((int16_t)le16(p + 42), -32768);
   EXPECT_EQ((int16_t)le16(p + 44), -1000);  // stick_permille
-  EXPECT_EQ((int16_t)le16(p + 46), 999);
-  EXPECT_EQ(p[48], 100);                    // speed_scale_pct
-  EXPECT_EQ(le16(p + 49), 0xBEEF);          // loop_cycles_max
-  EXPECT_EQ(le16(p + 51), 1);               // rx_crc_errors
+  EXPECT_EQ((int16_t)le16(p + 46), 1000);
+  EXPECT_EQ(p[48], 55);                     // speed_scale_pct
+  EXPECT_EQ(le16(p + 49), 0xFEDC);          // loop_cycles_max
+  EXPECT_EQ(le16(p + 51), 0x0102);          // rx_crc_errors
   EXPECT_EQ(le16(p + 53), 0xFFFF);          // rx_framing_errors
-  EXPECT_EQ(le16(p + 55), 0x1234);          // rx_rejected
+  EXPECT_EQ(le16(p + 55), 7);               // rx_rejected
 }
 
 TEST(Messages, OtherPayloadsAsDocumented) {

@@ -39,21 +39,10 @@ std::string AvrControlCycles::json_;
 
 // Budgets: the measured figures (README) with headroom, so that a regression fails
 TEST_F(AvrControlCycles, PerCallCosts) {
-  struct Budget {
-    const char* name;
-    double max_cycles;
-  };
-  const Budget budgets[] = {
+  wmra::simrun::expect_budgets(json_, {
       {"ramp_next_cruise", 100},       {"ramp_next_accelerating", 2000}, {"ramp_next_braking", 2000},
       {"ramp_set_speed", 500},         {"seed0_update", 500},            {"pid_update", 1200},
       {"relay_update", 250},           {"plausibility_update", 250},     {"joystick_update", 5000},
       {"button_update", 200},
-  };
-  for (const Budget& b : budgets) {
-    const Timing t = get(b.name);
-    ASSERT_GT(t.mean, 0) << b.name;
-    std::printf("%-24s mean %7.1f  max %6.0f cycles\n", b.name, t.mean, t.max);
-    RecordProperty(b.name, std::to_string(t.mean));
-    EXPECT_LE(t.max, b.max_cycles) << b.name;
-  }
+  });
 }

@@ -1,4 +1,5 @@
-// armsim: the scenario format, the files it writes, its exit codes, determinism.
+// armsim: the scenario format, the files it writes, its exit codes, determinism, and its
+// decoder of the firmware's telemetry.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,8 +9,11 @@
 #include <sstream>
 #include <string>
 
+#include "armsim/firmware_telemetry.h"
 #include "armsim/run.h"
 #include "armsim/scenario.h"
+#include "protocol_frames.h"
+#include "telemetry_json.h"
 
 using namespace wmra;
 using armsim::Event;
@@ -36,6 +40,12 @@ int error_line(const std::string& text) {
 
 const std::string kImage = std::string(SIM_IMAGES) + "/sim_bridges_avr.elf";
 const std::string kLoopImage = std::string(SIM_IMAGES) + "/sim_loop_avr.elf";
+const std::string kTelemetryImage = std::string(SIM_IMAGES) + "/sim_telemetry_avr.elf";
+
+std::string frame_hex(protocol::MsgType type, uint8_t seq, const std::vector<uint8_t>& payload) {
+  const std::vector<uint8_t> frame = protocol_frames::frame_bytes((uint8_t)type, seq, payload);
+  return telemetry::to_hex(frame.data(), frame.size());
+}
 
 }  // namespace
 
@@ -122,7 +132,7 @@ TEST(Armsim, WritesTheSpecsFiles) {
   EXPECT_DOUBLE_EQ(q2, 0.5);  // the init line
   EXPECT_DOUBLE_EQ(q4, -2.7);
   EXPECT_NEAR(x0, result.trajectory[0].p[0], 1e-7);
-  EXPECT_EQ(result.trajectory.back().mode, -1);  // no telemetry decoder yet
+  EXPECT_EQ(result.trajectory.back().mode, -1);  // the image sends no telemetry frames
 
   const std::string json = read_file(dir + "/summary.json");
   for (const char* field : {"\"sim_time_s\": 1.000000", "\"control_loop_cycles\": {\"mean\":", "\"control_rate_hz\":",
@@ -176,4 +186,66 @@ TEST(Armsim, CommandLineExitCodes) {
   EXPECT_EQ(run("--scenario " + good), 2);  // no --out
   EXPECT_EQ(run("--scenario " + good + " --out " + dir + " --elf " + kLoopImage), 0);
   EXPECT_NE(read_file(dir + "/summary.json").find("\"control_rate_hz\": 1000.000"), std::string::npos);
+}
+
+// The protocol end to end: an image that speaks it over UART0, commands from the scenario's
+// serial lines, armsim's own decoder (mode and state in the trajectory, summary.json) and one
+// of the test's (every message).
+TEST(Armsim, DecodesTheFirmwaresTelemetry) {
+  using protocol::MsgType;
+  const std::string scenario_text =
+      "0 joystick 0 0\n"
+      "0.3 serial " + frame_hex(MsgType::cmd_mode, 3, {1}) + "\n" +
+      "0.5 serial 00ff" + frame_hex(MsgType::cmd_speed_scale, 4, {150}) + "a50101000000ffff\n" +
+      "0.7 serial " + frame_hex(MsgType::cmd_speed_scale, 5, {40}) + "\n" +
+      "1.0 end\n";
+  const auto scenario = parse_scenario(scenario_text);
+  armsim::RunOptions options;
+  options.elf = kTelemetryImage;
+  options.out_dir = std::string(ARMSIM_OUT) + "/telemetry";
+  const auto own = armsim::run_scenario(scenario, options);  // armsim's default decoder
+  EXPECT_TRUE(own.completed);
+  EXPECT_EQ(own.trajectory[0].mode, -1);  // no state frame before 20 ms
+  EXPECT_EQ(own.trajectory[20].mode, 0);
+  EXPECT_EQ(own.trajectory[20].state, 4);
+  EXPECT_EQ(own.trajectory[29].mode, 0);
+  EXPECT_EQ(own.trajectory[40].mode, 1);  // after the mode command
+  EXPECT_EQ(own.telemetry.replies, 3u);
+  EXPECT_EQ(own.telemetry.crc_errors, 0u);
+  EXPECT_EQ(own.telemetry.seq_gaps, 0u);
+  EXPECT_EQ(own.telemetry.boot_reset_causes, std::vector<std::string>{"power_on"});
+  const std::string json = read_file(options.out_dir + "/summary.json");
+  EXPECT_NE(json.find("\"telemetry\": {\"frames\": " + std::to_string(own.telemetry.frames) +
+                      ", \"crc_errors\": 0, \"seq_gaps\": 0, \"replies\": 3}"),
+            std::string::npos)
+      << json;
+  EXPECT_NE(json.find("\"boot_reset_causes\": [\"power_on\"]"), std::string::npos);
+
+  armsim::FirmwareTelemetry mine;
+  options.telemetry = &mine;
+  options.out_dir.clear();
+  const auto result = armsim::run_scenario(scenario, options);
+  EXPECT_EQ(result.telemetry.frames, own.telemetry.frames);
+  // a boot frame, a state frame every 20 ms (the last one still on the line at the end), 3 replies
+  EXPECT_GE(result.telemetry.frames, 1u + 49u + 3u);
+  EXPECT_LE(result.telemetry.frames, 1u + 50u + 3u);
+  ASSERT_EQ(mine.boots().size(), 1u);
+  EXPECT_EQ(mine.boots()[0].reset_cause, 1);
+  EXPECT_EQ(mine.boots()[0].calibration, (uint8_t)protocol::Calibration::defaults_blank);
+  ASSERT_EQ(mine.replies().size(), 3u);
+  EXPECT_EQ(mine.replies()[0].command_type, (uint8_t)MsgType::cmd_mode);
+  EXPECT_EQ(mine.replies()[0].command_seq, 3);
+  EXPECT_EQ(mine.replies()[0].status, (uint8_t)protocol::ReplyStatus::ok);
+  EXPECT_EQ(mine.replies()[1].command_seq, 4);
+  EXPECT_EQ(mine.replies()[1].status, (uint8_t)protocol::ReplyStatus::bad_argument);
+  EXPECT_EQ(mine.replies()[2].status, (uint8_t)protocol::ReplyStatus::ok);
+  const protocol::StateMsg* last = mine.last_state();
+  ASSERT_NE(last, nullptr);
+  EXPECT_EQ(last->t_ms, 20u * mine.states().size());
+  EXPECT_EQ(last->mode, 1);
+  EXPECT_EQ(last->speed_scale_pct, 40);
+  EXPECT_EQ(last->reset_cause, 1);
+  EXPECT_EQ(last->rx_crc_errors, 1);  // the garbage frame
+  EXPECT_EQ(last->rx_rejected, 1);    // speed 150
+  EXPECT_TRUE(result.faults.empty());
 }

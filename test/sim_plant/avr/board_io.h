@@ -33,4 +33,17 @@ inline void print_int(int32_t v) {
   probe::print_uint((uint32_t)v);
 }
 
+// UART0 at 115200 baud (U2X, UBRR 16: 117,647 baud, 2.1 % off), 8N1, receive interrupt on
+inline void uart0_begin() {
+  UCSR0A = 1 << U2X0;
+  UBRR0 = 16;
+  UCSR0B = (1 << RXEN0) | (1 << TXEN0) | (1 << RXCIE0);
+  UCSR0C = 3 << UCSZ00;
+}
+inline void uart0_send(uint8_t c) {
+  while (!(UCSR0A & (1 << UDRE0))) {
+  }
+  UDR0 = c;
+}
+
 }  // namespace io

@@ -11,15 +11,10 @@ namespace {
 volatile uint8_t rx[64];
 volatile uint8_t head, tail;
 
-void tx(uint8_t c) {
-  while (!(UCSR0A & (1 << UDRE0))) {
-  }
-  UDR0 = c;
-}
 void tx_hex(uint8_t v) {
   const char* h = "0123456789abcdef";
-  tx((uint8_t)h[v >> 4]);
-  tx((uint8_t)h[v & 15]);
+  io::uart0_send((uint8_t)h[v >> 4]);
+  io::uart0_send((uint8_t)h[v & 15]);
 }
 }  // namespace
 
@@ -29,26 +24,23 @@ int main() {
   const uint8_t cause = MCUSR;
   MCUSR = 0;
   wdt_disable();
-  UCSR0A = 1 << U2X0;
-  UBRR0 = 16;  // 117,647 baud, 2.1 % from 115,200
-  UCSR0B = (1 << RXEN0) | (1 << TXEN0) | (1 << RXCIE0);
-  UCSR0C = 3 << UCSZ00;
+  io::uart0_begin();
   PORTB = 0x7F;  // pull-ups on the port B switches
   const char* s = "boot ";
-  while (*s) tx((uint8_t)*s++);
+  while (*s) io::uart0_send((uint8_t)*s++);
   tx_hex(cause);
-  tx(' ');
+  io::uart0_send(' ');
   tx_hex(PINB & 0x7F);
-  tx(' ');
+  io::uart0_send(' ');
   tx_hex(PIND & 0x0F);
-  tx(' ');
+  io::uart0_send(' ');
   tx_hex(PINE & 0x30);
-  tx('\n');
+  io::uart0_send('\n');
   sei();
   for (;;) {
     while (tail != head) {
       const uint8_t c = rx[tail++ & 63];
-      tx(c);
+      io::uart0_send(c);
       if (c == 'W') {
         wdt_enable(WDTO_15MS);
         for (;;) {
