@@ -20,7 +20,7 @@ set(AVR_F_CPU 16000000UL CACHE STRING "CPU clock in Hz")
 set(CMAKE_CXX_FLAGS_INIT "-mmcu=${AVR_MCU} -DF_CPU=${AVR_F_CPU} -mstrict-X -std=gnu++14 -fno-exceptions -fno-rtti -fno-threadsafe-statics")
 set(CMAKE_C_FLAGS_INIT "-mmcu=${AVR_MCU} -DF_CPU=${AVR_F_CPU} -mstrict-X")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "-mmcu=${AVR_MCU} -Wl,--gc-sections")
-set(CMAKE_CXX_FLAGS_RELEASE_INIT "-O2 -ffunction-sections -fdata-sections")
+set(CMAKE_CXX_FLAGS_RELEASE_INIT "-O2 -g -ffunction-sections -fdata-sections")  # -g: line info for profiles, not flashed
 set(CMAKE_C_FLAGS_RELEASE_INIT "-O2 -ffunction-sections -fdata-sections")
 
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)

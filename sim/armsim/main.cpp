@@ -1,9 +1,9 @@
 // armsim: run the firmware ELF at 16 MHz against the virtual arm through a scenario.
 //
-//   armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--seed N] [--rate HZ]
+//   armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--seed N] [--rate HZ]
 //
 // Writes DIR/trajectory.csv, DIR/summary.json and DIR/report.html (and DIR/trace.vcd with
-// --vcd); see run.h.
+// --vcd, DIR/profile.txt with --profile); see run.h.
 // The firmware's telemetry is decoded on the way (FirmwareTelemetry): mode, state and faults
 // in those files, its counts on stderr.
 // Without --elf it runs the firmware image of this build (ARMSIM_DEFAULT_ELF, set by CMake).
@@ -30,9 +30,10 @@ namespace {
 int usage(const char* why) {
   if (why) std::fprintf(stderr, "armsim: %s\n", why);
   std::fprintf(stderr,
-               "usage: armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--seed N] [--rate HZ]\n"
+               "usage: armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--seed N] [--rate HZ]\n"
                "  --elf   firmware image (default: %s)\n"
                "  --vcd   also write DIR/trace.vcd (pins, PWM duties, joint angles)\n"
+               "  --profile  also write DIR/profile.txt (cycles per instruction, for scripts/profile-firmware)\n"
                "  --seed  noise seed (default 1); --rate  trajectory rows per second (default 100)\n",
                ARMSIM_DEFAULT_ELF[0] ? ARMSIM_DEFAULT_ELF : "none built: pass --elf");
   return 2;
@@ -56,6 +57,8 @@ int main(int argc, char** argv) {
       elf_given = true;
     } else if (a == "--vcd") {
       options.vcd = true;
+    } else if (a == "--profile") {
+      options.profile = true;
     } else if (a == "--seed" && has_value) {
       char* end = nullptr;
       options.plant.seed = std::strtoull(argv[++i], &end, 10);

@@ -70,6 +70,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
   config.plant = options.plant;
   if (scenario.has_init) config.initial_q = scenario.init_q;
   if (options.vcd && !options.out_dir.empty()) config.vcd_path = options.out_dir + "/trace.vcd";
+  config.profile = options.profile && !options.out_dir.empty();
 
   RunResult result;
   sim::ArmSimulator sim(config);
@@ -124,6 +125,13 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
     write_summary_json(options.out_dir + "/summary.json", result, scenario, options);
     write_report_html(options.out_dir + "/report.html", result, scenario,
                       options.title.empty() ? "armsim run" : options.title);
+    if (config.profile) {
+      FILE* f = open_for_writing(options.out_dir + "/profile.txt");
+      const std::vector<uint64_t>& cycles = sim.core().profile();
+      for (size_t word = 0; word < cycles.size(); ++word)
+        if (cycles[word]) std::fprintf(f, "0x%zx %llu\n", 2 * word, (unsigned long long)cycles[word]);
+      std::fclose(f);
+    }
   }
   return result;
 }

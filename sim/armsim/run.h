@@ -5,6 +5,7 @@
 //   report.html     the run to look at: the arm in 3D, plots, the summary (report.h)
 //   serial_out.bin  what the firmware sent on UART0
 //   trace.vcd       with --vcd
+//   profile.txt     with --profile
 // This is the API the scenario tests use: run_scenario() gives the rows and measurements in
 // memory, with a callback at every row for checks of their own.
 #pragma once
@@ -45,6 +46,7 @@ struct RunOptions {
   std::string out_dir;   // empty: write no files
   std::string title;     // the report's heading (the scenario's name)
   bool vcd = false;
+  bool profile = false;  // write DIR/profile.txt: "0xADDR cycles" per instruction (byte address)
   double sample_hz = 100;  // trajectory rows per simulated second (>= 100)
   plant::PlantConfig plant;
   TelemetryDecoder* telemetry = nullptr;  // null: a FirmwareTelemetry of run_scenario's own

@@ -104,6 +104,7 @@ ArmSimulator::ArmSimulator(const SimConfig& config)
     vcd_.reset(new VcdWriter(config.vcd_path));
     if (!vcd_->ok()) throw std::runtime_error("cannot write " + config.vcd_path);
   }
+  if (config.profile) core_->enable_profile();
   wire();
   core_->on_reset([this] { after_reset(); });
   avr_cycle_timer_register(core_->avr(), step_cycles_, &ArmSimulator::plant_tick, this);

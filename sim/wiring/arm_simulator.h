@@ -37,6 +37,7 @@ struct SimConfig {
   plant::Joints initial_q{};  // true joint angles at power-up, rad
   uint32_t serial_baud = 115200;
   std::string vcd_path;  // empty: no trace
+  bool profile = false;  // count cycles per instruction (AvrCore::profile)
 };
 
 struct CycleStats {

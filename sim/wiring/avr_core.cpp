@@ -142,7 +142,9 @@ int AvrCore::step() {
   const bool reti = !active_.empty() && avr_->state == cpu_Running &&
                     (avr_->flash[pc] | (avr_->flash[pc + 1] << 8)) == m2560::kReti;
   reset_seen_ = false;
+  const uint64_t cycle_before = avr_->cycle;
   const int state = avr_run(avr_);
+  if (!profile_.empty() && avr_->state == cpu_Running) profile_[(pc >> 1) % profile_.size()] += avr_->cycle - cycle_before;
   if (reset_seen_) {
     after_reset(watchdog_cause());
     return state;

@@ -66,6 +66,11 @@ class AvrCore {
   const std::string& console() const { return console_; }  // bytes written to GPIOR0
   const std::vector<std::string>& log() const { return log_; }  // simavr's warnings and errors
 
+  // Cycles spent at each instruction (indexed by word address), counted from the call on; for
+  // finding where the firmware's time goes (armsim --profile, scripts/profile-firmware).
+  void enable_profile() { profile_.assign(kFlashWords, 0); }
+  const std::vector<uint64_t>& profile() const { return profile_; }
+
   // called after each reset (watchdog or jump to 0), once the core is ready to run again
   void on_reset(std::function<void()> listener) { reset_listeners_.push_back(std::move(listener)); }
 
@@ -97,6 +102,8 @@ class AvrCore {
   std::vector<std::function<void()>> reset_listeners_;
   std::string console_;
   std::vector<std::string> log_;
+  std::vector<uint64_t> profile_;
+  static constexpr size_t kFlashWords = 128 * 1024;
 };
 
 }  // namespace sim
