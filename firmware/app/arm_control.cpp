@@ -10,6 +10,7 @@
 #include "core/homing.h"
 #include "core/joint_map.h"
 #include "core/resolved_rate.h"
+#include "core/stepper_tracking.h"
 #include "core/stick_twist.h"
 #include "drivers/adc_scan.h"
 #include "drivers/bridges.h"
@@ -43,9 +44,13 @@ constexpr int32_t steps_of_deg(uint8_t i, int16_t deg) { return steps_of(i, deg 
 
 constexpr core::MotionLimits kLimits = core::motion_limits();
 
-constexpr control::StepRampConfig kRampConfig[3] = {{steps_per_s(0, kStepperAccel_crad_s2[0]), kStepMinInterval_ticks},
-                                                    {steps_per_s(1, kStepperAccel_crad_s2[1]), kStepMinInterval_ticks},
-                                                    {steps_per_s(2, kStepperAccel_crad_s2[2]), kStepMinInterval_ticks}};
+constexpr control::StepRampConfig kRampConfig[3] = {
+    {steps_per_s(0, kStepperAccel_crad_s2[0]), kStepMinInterval_ticks, kStepMaxInterval_ticks},
+    {steps_per_s(1, kStepperAccel_crad_s2[1]), kStepMinInterval_ticks, kStepMaxInterval_ticks},
+    {steps_per_s(2, kStepperAccel_crad_s2[2]), kStepMinInterval_ticks, kStepMaxInterval_ticks}};
+constexpr core::StepperTracking kTracking[3] = {{kStepperPositionGain_per_s, kRampConfig[0].accel_steps_s2},
+                                                {kStepperPositionGain_per_s, kRampConfig[1].accel_steps_s2},
+                                                {kStepperPositionGain_per_s, kRampConfig[2].accel_steps_s2}};
 static_assert(control::step_ramp_constants(steppers::kTickHz, kRampConfig[0]).status == control::RampStatus::ok &&
                   control::step_ramp_constants(steppers::kTickHz, kRampConfig[1]).status == control::RampStatus::ok &&
                   control::step_ramp_constants(steppers::kTickHz, kRampConfig[2]).status == control::RampStatus::ok,
@@ -75,6 +80,8 @@ fx::Real g_qd[6];
 kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
 uint32_t g_faults;            // latched
 uint16_t g_ms;
+uint16_t g_overrun_ms;  // reported while > 0: long enough for telemetry to see one missed tick
+constexpr uint16_t kOverrunReport_ms = 500;
 bool g_homed;
 bool g_at_target;
 bool g_moving;  // a joint move in running (to a stored pose)
@@ -201,7 +208,7 @@ void gripper_tick(int16_t stick_y_q15) {
   tick::set_servo_pulse_us((uint16_t)(g_gripper_us_q15 >> 15));
 }
 
-void motion_tick(const control::JoystickOutput& stick, const Requests& rq) {
+void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
   const kin::ArmTrig<Fixed> trig = kin::arm_trig<Fixed>(q);
@@ -229,18 +236,17 @@ void motion_tick(const control::JoystickOutput& stick, const Requests& rq) {
   const core::JointRates rates = core::resolved_rate(q, trig, corrected, kLimits);
   g_status.slowed_by = rates.slowed_by;
   constexpr core::Scale kPerTick = core::scale_for(1.0 / kLoopHz);
-  g_p_cmd.x.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.x).raw);
-  g_p_cmd.y.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.y).raw);
-  g_p_cmd.z.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.z).raw);
-
-  for (uint8_t j = 0; j < 6; ++j) {
-    g_qd[j] = rates.qd_rad_s[j];
-    g_q[j].advance(rates.qd_rad_s[j]);
+  for (uint8_t n = 0; n < ticks; ++n) {
+    g_p_cmd.x.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.x).raw);
+    g_p_cmd.y.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.y).raw);
+    g_p_cmd.z.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.z).raw);
+    for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(rates.qd_rad_s[j]);
   }
+  for (uint8_t j = 0; j < 6; ++j) g_qd[j] = rates.qd_rad_s[j];
   for (uint8_t i = 0; i < 3; ++i) {
     const uint8_t j = kStepperJoint[i];
     const int32_t error = kStepperMap[i].steps(g_q[j].angle) - steppers::ramp(i).position_steps();
-    const int32_t speed = kStepperMap[i].speed_steps_s(g_qd[j]) + kStepperPositionGain_per_s * error;
+    const int32_t speed = core::tracking_speed_steps_s(kTracking[i], kStepperMap[i].speed_steps_s(g_qd[j]), error);
     steppers::Command c(i);
     c.ramp().set_speed(speed);
   }
@@ -297,7 +303,8 @@ void configure(Settings& settings) {
                                            permille_q15(kStickExpo_permille),
                                            (int16_t)(32767 / kStickRise_ms),
                                            (int16_t)(32767 / kStickFall_ms),
-                                           kStickNeutral_ms};
+                                           kStickNeutral_ms,
+                                           kStickFullDeflection_counts};
   static_assert(control::joystick_check(kStick), "joystick configuration");
   g_stick.configure(kStick);
   g_button.configure(control::ButtonConfig{kButtonDebounce_ms, kButtonLongPress_ms});
@@ -354,13 +361,15 @@ void stop_from_interrupt() {
   steppers::kill();
 }
 
-void iterate(Requests& rq) {
+void iterate(Requests& rq, uint8_t ticks) {
   // --- inputs
   uint16_t adc[5];
   adc::snapshot(adc);
   const uint16_t switches = inputs::closed_switches();
   const bool safety = inputs::take_safety_event() | inputs::safety_pressed();
-  ++g_ms;
+  g_ms = (uint16_t)(g_ms + ticks);
+  if (ticks > 1) g_overrun_ms = kOverrunReport_ms;
+  else if (g_overrun_ms > 0) --g_overrun_ms;
   const control::JoystickOutput stick = g_stick.update(adc[0], adc[1]);
   const control::ButtonEvent button = g_button.update(inputs::joystick_button_down(), g_ms);
 
@@ -423,7 +432,7 @@ void iterate(Requests& rq) {
         move_tick();
         if (g_at_target) start_running(state);
       } else {
-        motion_tick(stick, rq);
+        motion_tick(stick, rq, ticks);
       }
       break;
     }
@@ -437,7 +446,8 @@ void iterate(Requests& rq) {
 
   g_status.state = state;
   g_status.mode = g_supervisor.mode();
-  g_status.faults = g_faults | (stick_valid ? 0 : core::fault_mask(core::kFaultBitStickInvalid));
+  g_status.faults = g_faults | (stick_valid ? 0 : core::fault_mask(core::kFaultBitStickInvalid)) |
+                    (g_overrun_ms > 0 ? core::fault_mask(core::kFaultBitLoopOverrun) : 0);
   g_status.switches = switches;
   g_status.stick_q15[0] = stick.x_q15;
   g_status.stick_q15[1] = stick.y_q15;

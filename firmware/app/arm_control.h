@@ -46,7 +46,9 @@ struct Status {
 };
 
 void start(Settings& settings);
-void iterate(Requests& requests);  // one control tick
+// one control iteration; `ticks` control ticks (1 ms) passed since the last one (more than one:
+// the loop overran, and the references advance by the time that passed)
+void iterate(Requests& requests, uint8_t ticks);
 void stop_from_interrupt();         // the stop hook of the safety button and the limit switches
 const Status& status();
 bool select_mode(config::Mode m);

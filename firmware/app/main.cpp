@@ -41,14 +41,14 @@ int main() {
 
   static app::Requests requests{false, false, false, -1, false, {0, 0, 0}, {0, 0, 0}};
   for (;;) {
-    tick::wait();
+    const uint8_t ticks = tick::wait();
     const uint16_t begin = TCNT1;
     pins::write(board::kTimingProbe, true);
-    app::iterate(requests);
+    app::iterate(requests, ticks);
     pins::write(board::kTimingProbe, false);
-    const uint16_t ticks = (uint16_t)(TCNT1 - begin);  // Timer1 counts at 2 MHz: 8 CPU cycles a count
+    const uint16_t counts = (uint16_t)(TCNT1 - begin);  // Timer1 counts at 2 MHz: 8 CPU cycles a count
     watchdog::kick();
-    app::link::poll(requests, ticks > 8191 ? 0xFFFF : (uint16_t)(ticks * 8));
+    app::link::poll(requests, counts > 8191 ? 0xFFFF : (uint16_t)(counts * 8));
     eeprom_store::service();
   }
 }

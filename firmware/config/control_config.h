@@ -12,6 +12,9 @@ constexpr uint8_t kMaxRxBytesPerTick = 32;     // serial bytes parsed per tick (
 
 // Joystick (lib/control/joystick.h), in ADC counts and Q15 per tick at 1 kHz
 constexpr uint16_t kStickRailMargin_counts = 20;
+// the stick's travel: the KY-023 through the board's amplifiers swings +-2.25 V (460 counts)
+// around the centre; a stick that reaches 96 % of that is full (speed), beyond saturates
+constexpr uint16_t kStickFullDeflection_counts = 440;
 constexpr uint8_t kStickRailTicks = 5;
 constexpr uint8_t kStickCalibrationSamples = 16;
 constexpr uint16_t kStickCalibrationSpread_counts = 12;

@@ -19,7 +19,11 @@ constexpr int16_t kStepperAccel_crad_s2[3] = {60, 400, 400};
 // the shortest step interval, Timer5 ticks of 4 us: 12.5 ticks, 20 kHz (the ramp carries the
 // fraction)
 constexpr uint16_t kStepMinInterval_ticks = 12;
-// position loop of a stepper around its reference: speed += gain x (reference - position)
+// the longest: slower commands are a stop (20 steps/s), so a new command never waits more than
+// 50 ms behind a creeping step (lib/control/step_ramp.h)
+constexpr uint16_t kStepMaxInterval_ticks = 12500;
+// position loop of a stepper around its reference: speed += gain x (reference - position), at
+// most sqrt(accel x |error|) (firmware/core/stepper_tracking.h)
 constexpr int16_t kStepperPositionGain_per_s = 20;
 
 // Homing (SPEC 5): J1 to its +90 deg switch, J5 to its -90 deg switch, J6 to its zero switch,
@@ -79,19 +83,26 @@ constexpr int16_t kMaxStep_counts_per_ms = 12;
 constexpr int16_t kRailMargin_counts = 20;
 constexpr int16_t kRailTime_ms = 5;
 // Tracking: a DC joint behind its reference slows the hand (from the first to the second
-// lag) rather than letting the reference run away; beyond the third it is a fault.
-constexpr int16_t kTrackingSlowFrom_mrad = 30;
-constexpr int16_t kTrackingStopAt_mrad = 100;
+// lag) rather than letting the reference run away; beyond the third it is a fault. What lag is
+// left when the stick is let go, the joint still catches up: 50 mrad is 20 to 40 mm at the hand.
+constexpr int16_t kTrackingSlowFrom_mrad = 15;
+constexpr int16_t kTrackingStopAt_mrad = 50;
 constexpr int16_t kTrackingFault_mrad = 250;
 
 // --- checks
 static_assert(kStepMinInterval_ticks >= 12, "at most 20.8 kHz per stepper");
+static_assert(kStepMaxInterval_ticks > kStepMinInterval_ticks && kStepMaxInterval_ticks <= 25000,
+              "the slowest step between the fastest and 10 steps/s (a command waits at most 100 ms)");
+static_assert(kStepperPositionGain_per_s * (uint32_t)kStepMaxInterval_ticks >= 250000ul,
+              "one step of error must ask for at least the slowest step, or the loop stops short of it");
 constexpr bool stepper_config_ok() {
   for (int i = 0; i < 3; ++i) {
     if (kStepperAccel_crad_s2[i] <= 0 || kStepperAccel_crad_s2[i] > 2000) return false;
     if (kHomingFast_crad_s[i] <= 0 || kHomingFast_crad_s[i] > 50 || kHomingSlow_crad_s[i] <= 0 ||
         kHomingSlow_crad_s[i] > kHomingFast_crad_s[i])
       return false;
+    // the slow approach is not below the slowest step (it would be a stop)
+    if (kHomingSlow_crad_s[i] * (double)kStepsPerJointTurn[i] * kStepMaxInterval_ticks < 100 * 6.2832 * 250000) return false;
     if (kHomingBackOff_deg[i] < 1 || kHomingBackOff_deg[i] > 20 || kHomingMaxTravel_deg[i] < 90) return false;
     if (kHomingDir[i] != 1 && kHomingDir[i] != -1) return false;
   }

@@ -10,7 +10,10 @@
 //                           rail_samples in a row latches a fault (flag) until the stick has
 //                           been valid and neutral again (SPEC 6: no motion until valid and
 //                           neutral). Full deflection must stay inside the margins (hardware);
-//   3. normalise            per side of the centre, so that each full deflection is 1;
+//   3. normalise            per side of the centre, so that each full deflection is 1: the
+//                           last reading before the rail margin, or full_deflection counts
+//                           from the centre when the stick's travel ends before the rails
+//                           (readings beyond it saturate at 1);
 //   4. dead zone            per axis (seed 2: ~2 %), rescaled so the output is continuous at
 //                           its edge; per axis rather than radial, so that a push along one
 //                           axis gives no drift in the other;
@@ -55,6 +58,7 @@ struct JoystickConfig {
   int16_t rise_q15;              // per sample, > 0
   int16_t fall_q15;              // per sample, > 0
   uint16_t neutral_samples;      // > 0
+  uint16_t full_deflection = 0;  // counts from the centre that are a full stick; 0: up to the rail margin
 };
 
 struct JoystickOutput {
@@ -66,7 +70,8 @@ struct JoystickOutput {
 constexpr bool joystick_check(const JoystickConfig& c) {
   return c.adc_max >= 255 && c.rail_margin < c.adc_max / 4 && c.rail_samples > 0 && c.calibration_samples > 0 &&
          c.calibration_samples <= 64 && c.centre_tolerance < c.adc_max / 4 && c.dead_zone_q15 >= 0 &&
-         c.dead_zone_q15 < 16384 && c.expo_q15 >= 0 && c.rise_q15 > 0 && c.fall_q15 > 0 && c.neutral_samples > 0;
+         c.dead_zone_q15 < 16384 && c.expo_q15 >= 0 && c.rise_q15 > 0 && c.fall_q15 > 0 && c.neutral_samples > 0 &&
+         (c.full_deflection == 0 || (c.full_deflection > c.adc_max / 8 && c.full_deflection < c.adc_max / 2));
 }
 
 // num * 32768 / den (saturated at 32767) for 0 <= num <= den, den > 0, by a table reciprocal (no division)
@@ -195,10 +200,12 @@ class Joystick {
       if (cal_max_[i] - cal_min_[i] > c_.calibration_spread || off > c_.centre_tolerance) return;  // try again
       centre_[i] = centre;
     }
-    // per side: full deflection is the last reading before the rail margin
+    // per side: full deflection is the last reading before the rail margin, or closer
     for (uint8_t i = 0; i < 2; ++i) {
-      const uint16_t hi_span = (uint16_t)(c_.adc_max - c_.rail_margin - 1 - centre_[i]);
-      const uint16_t lo_span = (uint16_t)(centre_[i] - c_.rail_margin - 1);
+      uint16_t hi_span = (uint16_t)(c_.adc_max - c_.rail_margin - 1 - centre_[i]);
+      uint16_t lo_span = (uint16_t)(centre_[i] - c_.rail_margin - 1);
+      if (c_.full_deflection != 0 && hi_span > c_.full_deflection) hi_span = c_.full_deflection;
+      if (c_.full_deflection != 0 && lo_span > c_.full_deflection) lo_span = c_.full_deflection;
       scale_hi_[i] = ratio_q15(128, hi_span);  // 128 * 32768 / span
       scale_lo_[i] = ratio_q15(128, lo_span);
     }
@@ -224,18 +231,18 @@ class Joystick {
   int16_t ramp(int16_t current, int16_t target) const {
     int32_t next;
     if (current > 0 && target < current) {
-      next = current - c_.fall_q15;
+      next = (int32_t)current - c_.fall_q15;
       if (next < target) next = target;
       if (next < 0) next = 0;  // through zero one sample at a time
     } else if (current < 0 && target > current) {
-      next = current + c_.fall_q15;
+      next = (int32_t)current + c_.fall_q15;
       if (next > target) next = target;
       if (next > 0) next = 0;
     } else if (target > current) {
-      next = current + c_.rise_q15;
+      next = (int32_t)current + c_.rise_q15;  // int32: on the AVR int is 16 bits, and 32767 + rise wraps
       if (next > target) next = target;
     } else {
-      next = current - c_.rise_q15;
+      next = (int32_t)current - c_.rise_q15;
       if (next < target) next = target;
     }
     return (int16_t)next;

@@ -56,12 +56,17 @@ enum class RampStatus : uint8_t {
   accel_too_low,           // the first interval sqrt(2/a) exceeds 65534 ticks
   accel_too_high,          // the interval scale F/sqrt(a) is below half a tick
   min_interval_invalid,    // outside [1, 65534] ticks
+  max_interval_invalid,    // below the shortest interval or above 65534 ticks
   speed_range_too_wide,    // more than 2^22 ramp levels between rest and the top speed
 };
 
 struct StepRampConfig {
   int32_t accel_steps_s2;       // acceleration limit
   uint16_t min_interval_ticks;  // shortest interval the driver and motor allow (top speed)
+  // Longest interval: slower speed commands are a stop. An interval, once scheduled, cannot be
+  // cut short, so this bounds how long a speed command can wait behind a slow step (a position
+  // loop that creeps at a few steps/s would otherwise hold off a new command for up to 262 ms).
+  uint16_t max_interval_ticks = 65534;
 };
 
 // Everything the ramp needs from the configuration, computed once (constexpr: the firmware
@@ -72,6 +77,7 @@ struct StepRampConstants {
   uint16_t node_mantissa;       // F / sqrt(a_eff) in Q16.16 ticks = mantissa << node_exponent
   uint8_t node_exponent;
   uint32_t min_interval_q16;
+  uint32_t max_interval_q16;
 };
 
 namespace ramp_detail {
@@ -133,13 +139,17 @@ constexpr uint32_t kNoStep = 0xFFFFFFFFu;  // "infinitely long" interval: rest, 
 
 // Constants for a tick rate F, an acceleration a and a minimum interval; status says why not.
 constexpr StepRampConstants step_ramp_constants(uint32_t tick_hz, StepRampConfig c) {
-  StepRampConstants k{RampStatus::ok, 0, 0, 0, 0};
+  StepRampConstants k{RampStatus::ok, 0, 0, 0, 0, 0};
   if (c.accel_steps_s2 <= 0) {
     k.status = RampStatus::accel_not_positive;
     return k;
   }
   if (c.min_interval_ticks < 1 || c.min_interval_ticks > 65534) {
     k.status = RampStatus::min_interval_invalid;
+    return k;
+  }
+  if (c.max_interval_ticks < c.min_interval_ticks || c.max_interval_ticks > 65534) {
+    k.status = RampStatus::max_interval_invalid;
     return k;
   }
   // a_eff = 31 a / 32. tau(0) = F sqrt(2/a_eff) = F sqrt(2^38 / (31 a)) / 2^16 ticks;
@@ -172,6 +182,7 @@ constexpr StepRampConstants step_ramp_constants(uint32_t tick_hz, StepRampConfig
   k.node_mantissa = (uint16_t)m;
   k.node_exponent = e;
   k.min_interval_q16 = (uint32_t)c.min_interval_ticks << 16;
+  k.max_interval_q16 = ((uint32_t)c.max_interval_ticks << 16) | 0xFFFFu;  // its fraction included
   return k;
 }
 
@@ -440,7 +451,7 @@ class StepRamp {
 
   uint32_t interval_for_speed(uint32_t speed) const {
     const uint32_t want = interval_for_speed_unclamped(speed);
-    if (want == ramp_detail::kNoStep) return want;
+    if (want > k_.max_interval_q16) return ramp_detail::kNoStep;
     return want < k_.min_interval_q16 ? k_.min_interval_q16 : want;
   }
 
@@ -568,7 +579,7 @@ class StepRamp {
     return walk_value_ + block_.q + (walk_acc_ < block_.rem ? 1u : 0u);
   }
 
-  StepRampConstants k_{RampStatus::ok, 0, 0, 0, 0};
+  StepRampConstants k_{RampStatus::ok, 0, 0, 0, 0, 0};
   bool configured_ = false;
   // command
   uint32_t want_q16_ = ramp_detail::kNoStep;

@@ -147,6 +147,17 @@ void emit_joystick_button(Put& put) {
     const bool level = (k / 300) % 2 ? (k % 7 != 0) : (k % 97 < 40);
     hb.add((uint32_t)b.update(level, (uint16_t)(k * 3 + 65000)));
   }
+  // a stick whose travel ends before the rails, held at full deflection: the output saturates
+  // at 32767 and the rate limit must not wrap past it (int is 16 bits on the AVR)
+  control::Joystick full;
+  full.configure(control::JoystickConfig{1023, 20, 5, 16, 12, 60, 655, 9830, 109, 218, 300, 440});
+  for (uint16_t k = 0; k < 3000; ++k) {
+    const uint16_t phase = k / 500;
+    const uint16_t at = phase == 0 ? 512 : phase % 2 ? 975 : 45;
+    const control::JoystickOutput o = full.update((uint16_t)(at + rng.in_range(-2, 2)), (uint16_t)(1023 - at));
+    hj.add((uint32_t)o.x_q15);
+    hj.add((uint32_t)o.y_q15);
+  }
   line(put, 'J', hj.h, hb.h, (uint32_t)j.centre(0) << 16 | j.centre(1));
 }
 

@@ -21,9 +21,9 @@ JoystickConfig config() {
 }
 
 // a calibrated, armed joystick with centre (cx, cy)
-Joystick ready(uint16_t cx = 515, uint16_t cy = 505) {
+Joystick ready(uint16_t cx = 515, uint16_t cy = 505, const JoystickConfig& c = config()) {
   Joystick j;
-  EXPECT_TRUE(j.configure(config()));
+  EXPECT_TRUE(j.configure(c));
   std::mt19937 rng(1);
   std::uniform_int_distribution<int> noise(-3, 3);
   for (int i = 0; i < 16; ++i) j.update((uint16_t)(cx + noise(rng)), (uint16_t)(cy + noise(rng)));
@@ -96,6 +96,22 @@ TEST(Joystick, FullDeflectionEachSideIsOne) {
   EXPECT_NEAR(hold(j, 9, 490, 3000).x_q15, -32767, 40);
   EXPECT_NEAR(hold(j, 540, 1014, 3000).y_q15, 32767, 40);
   EXPECT_NEAR(hold(j, 540, 9, 3000).y_q15, -32767, 40);
+}
+
+// A stick whose travel ends before the rails (the KY-023 through the board's amplifiers: +-2.25 V
+// around 2.5 V) is full at full_deflection counts from the centre, and saturates beyond
+TEST(Joystick, FullDeflectionBeforeTheRails) {
+  JoystickConfig c = config();
+  c.full_deflection = 440;
+  Joystick j = ready(520, 500, c);
+  EXPECT_NEAR(hold(j, 520 + 440, 500, 3000).x_q15, 32767, 200);  // the centre is the mean of noisy samples
+  EXPECT_NEAR(hold(j, 520 - 440, 500, 3000).x_q15, -32767, 200);
+  EXPECT_NEAR(hold(j, 520 + 460, 500, 3000).x_q15, 32767, 40);  // past it: still one
+  Joystick to_rails = ready(520, 500);
+  EXPECT_LT(hold(to_rails, 520 + 440, 500, 3000).x_q15, 32767 * 0.95);  // without it, 440 counts fall short
+  c.full_deflection = 600;  // beyond half the scale: refused
+  Joystick bad;
+  EXPECT_FALSE(bad.configure(c));
 }
 
 // Square to disc (seed 2): the square's boundary lands on the unit circle, along the same

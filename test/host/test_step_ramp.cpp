@@ -403,3 +403,22 @@ TEST(StepRamp, RestAndHaltSemantics) {
   EXPECT_TRUE(r.set_position(1234));
   EXPECT_EQ(r.position_steps(), 1234);
 }
+
+// A creep slower than the longest interval is a stop, so no step waits longer than that for the
+// next command (a position loop at rest asks for a few steps/s; the stick's next command must
+// not queue behind a 262 ms interval).
+TEST(StepRamp, LongestIntervalBoundsTheWaitForTheNextCommand) {
+  Ramp r;
+  StepRampConfig c{50000, 100};
+  c.max_interval_ticks = 20000;  // 100 steps/s
+  ASSERT_EQ(r.configure(c), RampStatus::ok);
+  r.set_speed(99);
+  EXPECT_FALSE(r.wants_step());
+  r.set_speed(-101);
+  ASSERT_TRUE(r.wants_step());
+  const Ramp::Step s = r.next();
+  EXPECT_EQ(s.dir, -1);
+  EXPECT_LE(s.interval_ticks, 20000);
+  c.max_interval_ticks = 99;  // below the shortest
+  EXPECT_EQ(r.configure(c), RampStatus::max_interval_invalid);
+}
