@@ -252,15 +252,18 @@ void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8
   }
 }
 
-void start_running(core::ArmState from) {
-  if (from != core::ArmState::to_ready) drives_on();
+// Every joint's reference where the joint is: a DC joint that arrived within
+// kArrivedTolerance_mdeg of a move's target would otherwise go on to it with the stick neutral
+// (J3 ended the move to the ready pose 13 mrad short and crept there over 3 s).
+void start_running() {
+  drives_on();
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
   g_p_cmd = kin::hand_position<Fixed>(kin::arm_trig<Fixed>(q));
   g_moving = false;
 }
 
-void enter(core::ArmState state, core::ArmState from) {
+void enter(core::ArmState state) {
   switch (state) {
     case core::ArmState::homing:
       drives_on();
@@ -273,7 +276,7 @@ void enter(core::ArmState state, core::ArmState from) {
       inputs::arm_switches(kSwitchesArmed);
       break;
     case core::ArmState::running:
-      start_running(from);
+      start_running();
       inputs::arm_switches(kSwitchesArmed);
       break;
     default:
@@ -405,7 +408,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   g_supervisor.update(in, 1);
   const core::ArmState state = g_supervisor.state();
   if (state != g_prev_state) {
-    enter(state, g_prev_state);
+    enter(state);
     g_prev_state = state;
   }
 
@@ -426,11 +429,11 @@ void iterate(Requests& rq, uint8_t ticks) {
       }
       if (g_moving && (!stick_neutral || rq.velocity_fresh)) {  // the person takes over: stop the move
         g_moving = false;
-        start_running(state);
+        start_running();
       }
       if (g_moving) {
         move_tick();
-        if (g_at_target) start_running(state);
+        if (g_at_target) start_running();
       } else {
         motion_tick(stick, rq, ticks);
       }

@@ -69,17 +69,26 @@ struct AngleAccumulator {
 };
 
 // A stepper joint: steps per turn of the joint (motor steps x microsteps x reduction).
+// angle() keeps kExtraBits more bits through its product than apply() (whose product, shifted
+// up, has its lowest e bits 0: 32 counts, 1.6 steps of J1), and steps() rounds to the nearest
+// step, so that steps(angle(n)) == n: a reference taken from the step count (entering running,
+// after homing or a move) asks for no step at all. For |steps| < 2^16 (J5's 90 deg: 16,000).
 struct StepperMap {
+  static constexpr int8_t kExtraBits = 14;
+
   Scale steps_per_angle;  // position
   Scale angle_per_step;
   Scale steps_s_per_rate;  // speed: steps/s per Q23 rad/s
+  int16_t half_step;       // Angle counts in half a step (rounded down)
 
   static constexpr StepperMap make(uint32_t steps_per_turn) {
     return StepperMap{scale_for((double)steps_per_turn / fx::kAngleTurn), scale_for((double)fx::kAngleTurn / steps_per_turn),
-                      scale_for(steps_per_turn / (2 * kPi) / kRealPerRad)};
+                      scale_for(steps_per_turn / (2 * kPi) / kRealPerRad), (int16_t)(fx::kAngleTurn / 2 / steps_per_turn)};
   }
-  int32_t steps(fx::Angle a) const { return apply(steps_per_angle, a.raw); }
-  fx::Angle angle(int32_t steps) const { return fx::Angle{apply(angle_per_step, steps)}; }
+  int32_t steps(fx::Angle a) const { return apply(steps_per_angle, a.raw + half_step); }
+  fx::Angle angle(int32_t steps) const {
+    return fx::Angle{fx::mul_q15(steps << kExtraBits, angle_per_step.m) >> (kExtraBits - angle_per_step.e)};
+  }
   int32_t speed_steps_s(fx::Real qd) const { return apply(steps_s_per_rate, qd.raw); }
 };
 

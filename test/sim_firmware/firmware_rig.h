@@ -1,0 +1,74 @@
+// The firmware ELF against the virtual arm, for the scenario tests of test/sim_firmware: the
+// simulator, the firmware's telemetry decoded as armsim decodes it, and commands to send it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "armsim/firmware_telemetry.h"
+#include "armsim/run.h"
+#include "core/supervisor.h"
+#include "protocol/frame.h"
+#include "protocol/messages.h"
+#include "wiring/arm_simulator.h"
+
+namespace wmra {
+namespace test {
+
+const std::string kFirmware = std::string(FIRMWARE_DIR) + "/wmra_firmware.elf";
+const std::string kTestFirmware = std::string(FIRMWARE_DIR) + "/wmra_firmware_test.elf";
+
+// near the homing switches, so that start-up takes a few seconds
+const plant::Joints kNearHome = {1.50, 0.30, -1.00, 0.60, -1.50, 0.02};
+
+// a command frame with a raw payload
+inline std::vector<uint8_t> command(protocol::MsgType type, uint8_t seq, std::vector<uint8_t> payload = {}) {
+  std::vector<uint8_t> frame(protocol::kMaxFrameBytes);
+  frame.resize(protocol::write_frame((uint8_t)type, seq, payload.data(), (uint8_t)payload.size(), frame.data()));
+  return frame;
+}
+
+// a command frame of a message (VelocityCmd)
+template <class Msg>
+std::vector<uint8_t> message(const Msg& m, uint8_t seq) {
+  std::vector<uint8_t> frame(protocol::kMaxFrameBytes);
+  frame.resize(protocol::write_message(m, seq, frame.data()));
+  return frame;
+}
+
+struct Rig {
+  sim::ArmSimulator sim;
+  armsim::FirmwareTelemetry telemetry;
+  size_t fed = 0;  // UART bytes given to telemetry
+
+  explicit Rig(const std::string& elf, const plant::Joints& initial_q = kNearHome) : sim(config(elf, initial_q)) {}
+  static sim::SimConfig config(const std::string& elf, const plant::Joints& initial_q) {
+    sim::SimConfig c;
+    c.elf = elf;
+    c.initial_q = initial_q;
+    return c;
+  }
+  void run_to(double t_s) {
+    sim.run_until(t_s);
+    const std::vector<uint8_t>& out = sim.uart_output();
+    for (; fed < out.size(); ++fed) telemetry.feed(out[fed]);
+  }
+  // runs until the firmware reports this state, at most until t_max_s; the time, or -1
+  double run_until_state(core::ArmState s, double t_max_s) {
+    for (double t = sim.time_s(); t < t_max_s; t += 0.02) {
+      run_to(t + 0.02);
+      if (state() == s) return sim.time_s();
+    }
+    return -1;
+  }
+  core::ArmState state() const {
+    return telemetry.state() < 0 ? core::ArmState::boot : (core::ArmState)telemetry.state();
+  }
+  const protocol::StateMsg& last() const { return *telemetry.last_state(); }
+  // the true pose of the frame-6 origin (plant angles, double FK)
+  armsim::TrajectoryRow pose() const { return armsim::trajectory_row(sim.time_s(), sim.q(), 0, 0); }
+};
+
+}  // namespace test
+}  // namespace wmra
