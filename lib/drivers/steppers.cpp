@@ -41,10 +41,14 @@ inline void set_dir(uint8_t i, int8_t dir) {
   }
 }
 
-inline void schedule(uint8_t i, uint16_t edge) {
-  const uint16_t now = TCNT5;
-  if ((int16_t)(edge - now) < (int16_t)kMinLeadTicks) edge = (uint16_t)(now + kMinLeadTicks);
-  pins::ocr16(kPins(i).step) = edge;
+// The edge `interval` ticks after `from` (the last edge, or now), or kMinLeadTicks from now if
+// that is already too close or past. Late is judged by the time elapsed since `from`, not by the
+// sign of (edge - now): an interval above 32767 ticks (a step slower than 7.6/s) would look late
+// that way and go out at once, a burst of steps at the ISR's rate.
+inline void schedule(uint8_t i, uint16_t from, uint16_t interval) {
+  const uint16_t elapsed = (uint16_t)(TCNT5 - from);
+  const bool late = interval < kMinLeadTicks || elapsed > (uint16_t)(interval - kMinLeadTicks);
+  pins::ocr16(kPins(i).step) = late ? (uint16_t)(from + elapsed + kMinLeadTicks) : (uint16_t)(from + interval);
 }
 
 // Runs with interrupts off (from the ISR, or from the main loop under cli). The compare unit
@@ -61,14 +65,14 @@ inline void on_edge() {
     return;
   }
   set_dir(I, s.dir);
-  schedule(I, (uint16_t)(pins::ocr16(kPins(I).step) + s.interval_ticks));
+  schedule(I, pins::ocr16(kPins(I).step), s.interval_ticks);
 }
 
 void start_channel(uint8_t i) {
   const Ramp::Step s = g_ramps[i].next();
   if (s.interval_ticks == 0) return;
   set_dir(i, s.dir);
-  schedule(i, (uint16_t)(TCNT5 + s.interval_ticks));
+  schedule(i, TCNT5, s.interval_ticks);
   TIFR5 = (uint8_t)(1 << ocie_bit(i));  // a stale match flag must not fire at once
   set_com(i, kComToggle);
   TIMSK5 |= (uint8_t)(1 << ocie_bit(i));
