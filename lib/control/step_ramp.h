@@ -461,8 +461,9 @@ class StepRamp {
     return mul_hi_u32xu32(k_.first_interval_q16, flash_read_u32(ramp_detail::level_table() + level));
   }
 
-  // tau(j) = F / sqrt(a_eff (2j+1)) for j > 256, by a normalised table reciprocal square root
-  uint32_t node(uint32_t j) const {
+  // tau(j) = F / sqrt(a_eff (2j+1)) for j > 256, by a normalised table reciprocal square root.
+  // Once per interpolation block: not inlined (at -O3 its copies made decide() 6.5 KB).
+  __attribute__((noinline)) uint32_t node(uint32_t j) const {
     if (j <= 256) return table_interval(j);
     uint8_t s;
     const uint16_t r = rsqrt_normalised(2 * j + 1, s);  // 1/sqrt(2j+1) = r 2^(s-31)

@@ -24,7 +24,9 @@ constexpr const board::BridgePins& kPins(uint8_t j) {
 constexpr bool eight_bit(ComparePin p) { return p.timer == Timer::t0 || p.timer == Timer::t2; }
 constexpr uint8_t kComNonInverting = 2;
 
-void side(ComparePin p, uint16_t duty_q15) {
+// Always inlined with a constant pin: every register address folds to a constant (a runtime
+// lookup in the pin tables costs ~250 cycles a call).
+__attribute__((always_inline)) inline void side(ComparePin p, uint16_t duty_q15) {
   const uint16_t top = eight_bit(p) ? kTop8 : kTop16;
   const uint16_t ocr = (uint16_t)(((uint32_t)duty_q15 * (top + 1u)) >> 15);
   if (ocr == 0) {
@@ -37,6 +39,22 @@ void side(ComparePin p, uint16_t duty_q15) {
     pins::ocr16(p) = ocr;
   }
   pins::set_com(p, kComNonInverting);
+}
+
+template <uint8_t kJoint>
+void set_joint(int16_t duty_q15) {
+  constexpr const board::BridgePins& b = kPins(kJoint);
+  const uint16_t magnitude = (uint16_t)(duty_q15 < 0 ? -(int32_t)duty_q15 : duty_q15);
+  const uint8_t s = SREG;
+  cli();  // the e-stop ISR writes the same TCCRnA registers
+  if (duty_q15 > 0) {
+    side(b.right, 0);
+    side(b.left, magnitude);
+  } else {
+    side(b.left, 0);
+    side(b.right, magnitude);
+  }
+  SREG = s;
 }
 
 void start_timer(Timer t) {
@@ -68,13 +86,20 @@ void start() {
 }
 
 void set(uint8_t joint, int16_t duty_q15) {
-  const uint16_t magnitude = (uint16_t)(duty_q15 < 0 ? -(int32_t)duty_q15 : duty_q15);
-  const board::BridgePins& b = kPins(joint);
-  const uint8_t s = SREG;
-  cli();  // the e-stop ISR writes the same TCCRnA registers
-  side(duty_q15 > 0 ? b.right : b.left, 0);
-  side(duty_q15 > 0 ? b.left : b.right, magnitude);
-  SREG = s;
+  static_assert(kCount == 3, "one case per bridge");
+  switch (joint) {
+    case 0:
+      set_joint<0>(duty_q15);
+      break;
+    case 1:
+      set_joint<1>(duty_q15);
+      break;
+    case 2:
+      set_joint<2>(duty_q15);
+      break;
+    default:
+      break;
+  }
 }
 
 void all_off() {

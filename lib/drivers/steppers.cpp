@@ -41,18 +41,26 @@ inline void set_dir(uint8_t i, int8_t dir) {
   }
 }
 
-inline void schedule(uint8_t i, uint16_t edge) {
-  const uint16_t now = TCNT5;
-  if ((int16_t)(edge - now) < (int16_t)kMinLeadTicks) edge = (uint16_t)(now + kMinLeadTicks);
-  pins::ocr16(kPins(i).step) = edge;
+// The edge `interval` ticks after `from` (the last edge, or now), or kMinLeadTicks from now if
+// that is already too close or past. Late is judged by the time elapsed since `from`, not by the
+// sign of (edge - now): an interval above 32767 ticks (a step slower than 7.6/s) would look late
+// that way and go out at once, a burst of steps at the ISR's rate.
+inline void schedule(uint8_t i, uint16_t from, uint16_t interval) {
+  const uint16_t elapsed = (uint16_t)(TCNT5 - from);
+  const bool late = interval < kMinLeadTicks || elapsed > (uint16_t)(interval - kMinLeadTicks);
+  pins::ocr16(kPins(i).step) = late ? (uint16_t)(from + elapsed + kMinLeadTicks) : (uint16_t)(from + interval);
 }
+
+// One copy of the ramp's step for the three ISRs and the start (inlined into each, it cost
+// ~1.2 KB of flash a copy; the call costs ~10 cycles a step).
+__attribute__((noinline)) Ramp::Step next_step(Ramp& ramp) { return ramp.next(); }
 
 // Runs with interrupts off (from the ISR, or from the main loop under cli). The compare unit
 // toggles STEP high at the edge; a forced compare toggles it low again. Only OCR5x and TCCR5C
 // are written per step: TCCR5A (the compare modes) changes only when a channel starts or stops.
 template <uint8_t I>
 inline void on_edge() {
-  const Ramp::Step s = g_ramps[I].next();
+  const Ramp::Step s = next_step(g_ramps[I]);
   TCCR5C = (uint8_t)(1 << foc_bit(I));  // the pulse ends now
   if (s.interval_ticks == 0) {
     set_com(I, 0);
@@ -61,14 +69,14 @@ inline void on_edge() {
     return;
   }
   set_dir(I, s.dir);
-  schedule(I, (uint16_t)(pins::ocr16(kPins(I).step) + s.interval_ticks));
+  schedule(I, pins::ocr16(kPins(I).step), s.interval_ticks);
 }
 
 void start_channel(uint8_t i) {
-  const Ramp::Step s = g_ramps[i].next();
+  const Ramp::Step s = next_step(g_ramps[i]);
   if (s.interval_ticks == 0) return;
   set_dir(i, s.dir);
-  schedule(i, (uint16_t)(TCNT5 + s.interval_ticks));
+  schedule(i, TCNT5, s.interval_ticks);
   TIFR5 = (uint8_t)(1 << ocie_bit(i));  // a stale match flag must not fire at once
   set_com(i, kComToggle);
   TIMSK5 |= (uint8_t)(1 << ocie_bit(i));
