@@ -11,6 +11,7 @@
 #include "config/modes_config.h"
 #include "config/motion_config.h"
 #include "core/faults.h"
+#include "core/resolved_rate.h"
 #include "firmware_rig.h"
 #include "kinematics/arm_model.h"
 
@@ -150,6 +151,230 @@ TEST(AcceptanceScenarios, S4ShortPressesCycleThroughEveryMode) {
   EXPECT_EQ(rig.sim.gripper_pulse_us(), gripper_before_us);
   EXPECT_LE(hand_mm, 0.1);
   EXPECT_LE(r.watch.largest_travel_rad(), 1e-4);
+}
+
+// Streams the velocity command that turns joint j at rate_rad_s, recomputed from the plant's pose
+// every 50 ms (the firmware stops after kVelocityTimeout_ms without one), until t_end_s.
+void stream_joint(Rig& rig, uint8_t& seq, int j, double rate_rad_s, double t_end_s) {
+  static_assert(protocol::kVelocityTimeout_ms > 50, "a command every 50 ms keeps the stream fresh");
+  while (rig.sim.time_s() < t_end_s - 1e-9) {
+    rig.sim.send_serial(message(joint_twist(rig.sim.q(), j, rate_rad_s), seq++));
+    rig.run_to(std::min(rig.sim.time_s() + 0.05, t_end_s));
+  }
+}
+
+// S6: a stepper joint (J1, towards +90 deg) and a DC joint (J4, towards +160 deg) driven into
+// their limits by the streamed velocity command stop inside their soft limits (3 deg inside
+// the switches, motion_config.h), no switch closes, no limit_unexpected fault, the arm stays
+// running, and driving back moves the joint away.
+struct LimitCase {
+  int joint;           // 0..5
+  double rate_rad_s;   // towards q_max; the twist's hand speed stays within the 0.15 m/s clamp
+  double drive_s;      // long enough to reach the soft stop at that rate, with the slow zone
+};
+
+class S6 : public ::testing::TestWithParam<LimitCase> {};
+
+TEST_P(S6, DrivingIntoALimitStopsBeforeTheSwitch) {
+  const LimitCase c = GetParam();
+  Running r;
+  ASSERT_TRUE(r.ok());
+  Rig& rig = r.rig;
+  const size_t first_frame = rig.telemetry.states().size();
+  const double q_start = rig.sim.q()[c.joint];
+  const double soft_max_rad = arm::q_max_rad(c.joint) - config::kSoftLimitMargin_deg * kDeg;
+  uint8_t seq = 1;
+  stream_joint(rig, seq, c.joint, c.rate_rad_s, r.t_rest_s + c.drive_s);
+  const double q_stop = rig.sim.q()[c.joint];
+  const double q_peak = r.watch.q_max[c.joint];
+  // still pushing for another second: it stays stopped
+  stream_joint(rig, seq, c.joint, c.rate_rad_s, rig.sim.time_s() + 1.0);
+  const double q_pushed = rig.sim.q()[c.joint];
+  std::printf("S6 J%d: from %.2f deg, stopped at %.3f deg (peak %.3f, after 1 s more push %.3f), soft limit %.1f, switch %.1f\n",
+              c.joint + 1, q_start / kDeg, q_stop / kDeg, q_peak / kDeg, q_pushed / kDeg, soft_max_rad / kDeg,
+              arm::q_max_rad(c.joint) / kDeg);
+  // it got there, and no further than the soft limit (1 deg: the DC joint's PID, the homing's accuracy)
+  EXPECT_GT(q_stop, soft_max_rad - 1.0 * kDeg);
+  EXPECT_LT(r.watch.q_max[c.joint], soft_max_rad + 1.0 * kDeg);
+  EXPECT_LT(std::fabs(q_pushed - q_stop), 1e-3) << "a joint at its soft limit moves no further";
+  EXPECT_FALSE(r.watch.at_limit) << "a joint reached its switch's angle";
+  EXPECT_FALSE(r.watch.switch_closed);
+  bool slowed = false;
+  for (size_t i = first_frame; i < rig.telemetry.states().size(); ++i) {
+    const protocol::StateMsg& s = rig.telemetry.states()[i];
+    EXPECT_EQ(s.state, (uint8_t)core::ArmState::running) << "at " << s.t_ms << " ms";
+    EXPECT_FALSE(has_fault(s, core::kFaultBitLimitUnexpected)) << "at " << s.t_ms << " ms";
+    EXPECT_EQ(s.switches & 0x3FF, 0) << "at " << s.t_ms << " ms";
+    slowed |= (s.slowed_by & core::kSlowSoftLimit) != 0;
+  }
+  EXPECT_TRUE(slowed) << "telemetry never named the soft limit";
+  // driving back for a second moves it away at (nearly) the commanded rate
+  stream_joint(rig, seq, c.joint, -c.rate_rad_s, rig.sim.time_s() + 1.0);
+  const double back_rad = q_pushed - rig.sim.q()[c.joint];
+  std::printf("S6 J%d: driven back %.2f deg in 1 s at %.2f rad/s\n", c.joint + 1, back_rad / kDeg, c.rate_rad_s);
+  EXPECT_GT(back_rad, 0.5 * c.rate_rad_s);
+  EXPECT_EQ(rig.state(), core::ArmState::running);
+  size_t ok_replies = 0;
+  for (const protocol::ReplyMsg& m : rig.telemetry.replies()) ok_replies += m.status == (uint8_t)protocol::ReplyStatus::ok;
+  EXPECT_GE(ok_replies + 1, (size_t)(uint8_t)(seq - 1)) << "every velocity command accepted";
+}
+
+// J1 from 70 deg: 0.15 rad/s keeps the hand (0.75 m out) near 0.11 m/s; J4 from 50 deg: 0.4
+// rad/s moves the hand 0.26 m from the joint at about 0.1 m/s
+INSTANTIATE_TEST_SUITE_P(AcceptanceScenarios, S6,
+                         ::testing::Values(LimitCase{0, 0.15, 3.0}, LimitCase{3, 0.4, 8.0}),
+                         [](const ::testing::TestParamInfo<LimitCase>& i) {
+                           return "J" + std::to_string(i.param.joint + 1);
+                         });
+
+// S8, joystick: unplugged (both axes fall to 0 V) while the stick was full +X in XY, the hand
+// stops: the stick reads neutral at once and its output falls to 0 within kStickFall_ms (150
+// ms: 11 mm at 0.15 m/s), the DC joints catch up with their references (within the tracking
+// lag: 30 mrad at most, about 10 mm at the hand); so at most 25 mm after the unplugging and
+// still from 0.3 s on. stick_invalid is reported. Plugged back in with the stick still
+// deflected, nothing moves until the stick has been neutral (then it drives again).
+TEST(AcceptanceScenarios, S8JoystickUnpluggedStopsAndNeedsNeutral) {
+  Running r;
+  ASSERT_TRUE(r.ok());
+  Rig& rig = r.rig;
+  rig.sim.set_joystick(1.0, 0.0);
+  const double t_unplug = r.t_rest_s + 1.0;
+  rig.run_to(t_unplug - 0.1);
+  const armsim::TrajectoryRow before = rig.pose();
+  rig.run_to(t_unplug);
+  const armsim::TrajectoryRow at_unplug = rig.pose();
+  const double speed_m_s = distance_mm(at_unplug.p, before.p) / 1000 / 0.1;
+  EXPECT_GT(speed_m_s, 0.1) << "the hand was moving";
+  rig.sim.set_joystick_unplugged(true);
+  rig.run_to(t_unplug + 0.3);
+  const armsim::TrajectoryRow stopped = rig.pose();
+  const size_t frames_unplugged = rig.telemetry.states().size();
+  rig.run_to(t_unplug + 1.0);
+  const double coast_mm = distance_mm(stopped.p, at_unplug.p);
+  const double still_mm = distance_mm(rig.pose().p, stopped.p);
+  std::printf("S8 stick: %.3f m/s at the unplugging, %.2f mm in the next 0.3 s, %.3f mm in the 0.7 s after\n", speed_m_s,
+              coast_mm, still_mm);
+  EXPECT_LE(coast_mm, 25.0);
+  EXPECT_LE(still_mm, 0.1);
+  ASSERT_GT(rig.telemetry.states().size(), frames_unplugged);
+  for (size_t i = frames_unplugged; i < rig.telemetry.states().size(); ++i) {
+    const protocol::StateMsg& s = rig.telemetry.states()[i];
+    EXPECT_TRUE(has_fault(s, core::kFaultBitStickInvalid)) << "at " << s.t_ms << " ms";
+    EXPECT_EQ(s.stick_permille[0], 0);
+    EXPECT_EQ(s.state, (uint8_t)core::ArmState::running) << "not a latched fault: running, nothing commanded";
+  }
+  // plugged back in, still at full +X: no motion
+  rig.sim.set_joystick_unplugged(false);
+  const armsim::TrajectoryRow replugged = rig.pose();
+  rig.run_to(t_unplug + 2.0);
+  const double replug_mm = distance_mm(rig.pose().p, replugged.p);
+  std::printf("S8 stick: plugged back in, deflected: %.3f mm in 1 s\n", replug_mm);
+  EXPECT_LE(replug_mm, 0.1);
+  EXPECT_EQ(rig.last().stick_permille[0], 0);
+  // through neutral: it drives again
+  rig.sim.set_joystick(0.0, 0.0);
+  rig.run_to(t_unplug + 2.5);
+  EXPECT_FALSE(has_fault(rig.last(), core::kFaultBitStickInvalid));
+  rig.sim.set_joystick(1.0, 0.0);
+  const armsim::TrajectoryRow rearmed = rig.pose();
+  rig.run_to(t_unplug + 3.0);
+  EXPECT_GT(distance_mm(rig.pose().p, rearmed.p), 20.0) << "the stick drives again after neutral";
+}
+
+// S8, pot: J3's wiper open (0 V) while the arm holds still: the drives go off, j3_rail is
+// reported, nothing moves or is driven, also with the stick deflected and through a re-arm
+// while the wire is still open; with the wire mended, a re-arm brings it back to running.
+TEST(AcceptanceScenarios, S8PotOpenWireStopsUntilRearmed) {
+  Running r;
+  ASSERT_TRUE(r.ok());
+  Rig& rig = r.rig;
+  const double t_open = r.t_rest_s;
+  rig.sim.set_pot_fault(2, plant::PotFault::open);  // J3
+  rig.run_to(t_open + 0.1);
+  EXPECT_EQ(rig.state(), core::ArmState::fault);
+  EXPECT_TRUE(has_fault(rig.last(), core::kFaultBitJ2 + 4 * 1 + 3)) << "j3_rail";
+  EXPECT_TRUE(rig.sim.outputs_off());
+  const int64_t steps = r.steps_commanded();
+  const plant::Joints q_fault = rig.sim.q();
+  r.watch.reset(q_fault);
+  rig.sim.set_joystick(1.0, 0.0);
+  rig.run_to(t_open + 1.0);
+  rig.sim.set_joystick(0.0, 0.0);
+  rig.run_to(t_open + 1.6);
+  rig.sim.send_serial(command(protocol::MsgType::cmd_rearm, 1));  // the wire still open
+  rig.run_to(t_open + 2.5);
+  EXPECT_EQ(rig.state(), core::ArmState::fault);
+  EXPECT_FALSE(r.watch.driven) << "an output came on while the pot was open";
+  EXPECT_EQ(r.steps_commanded(), steps);
+  std::printf("S8 pot: largest joint travel in fault %.4f mrad\n", 1000 * r.watch.largest_travel_rad());
+  EXPECT_LE(r.watch.largest_travel_rad(), 1e-4);
+  rig.sim.set_pot_fault(2, plant::PotFault::ok);
+  rig.run_to(t_open + 2.6);
+  rig.sim.send_serial(command(protocol::MsgType::cmd_rearm, 2));
+  EXPECT_GT(rig.run_until_state(core::ArmState::running, t_open + 4.0), 0) << "re-arm with the wire mended";
+}
+
+// S9: 1 MiB of random bytes (fixed seed) into the serial link, 91 s at 115200 baud, while
+// the arm runs at rest with the stick neutral; the same length of time without them beside it.
+// No reset, running throughout, state frames throughout, no step, the hand and the joints as
+// still as in the quiet run (and physically still: 0.1 mm, 0.1 mrad), the link still answers.
+TEST(AcceptanceScenarios, S9SerialGarbageNeverMovesNorResets) {
+  constexpr size_t kBytes = 1 << 20;
+  std::vector<uint8_t> garbage(kBytes);
+  std::mt19937 random(20240901);
+  for (uint8_t& b : garbage) b = (uint8_t)random();
+  const double flood_s = kBytes * 10.0 / 115200;
+
+  Running quiet;
+  ASSERT_TRUE(quiet.ok());
+  const armsim::TrajectoryRow quiet_start = quiet.rig.pose();
+  quiet.rig.run_to(quiet.t_rest_s + flood_s + 0.5);
+  const double quiet_mm = distance_mm(quiet.rig.pose().p, quiet_start.p);
+
+  Running r;
+  ASSERT_TRUE(r.ok());
+  Rig& rig = r.rig;
+  const size_t first_frame = rig.telemetry.states().size();
+  const armsim::TrajectoryRow start = rig.pose();
+  const int64_t steps = r.steps_commanded();
+  rig.sim.send_serial(garbage);
+  rig.run_to(r.t_rest_s + flood_s + 0.5);
+  const sim::Measurements m = rig.sim.measurements();
+  const double hand_mm = distance_mm(rig.pose().p, start.p);
+  std::printf("S9: %.1f s of garbage, %llu bytes in, %llu dropped; hand %.4f mm (quiet run %.4f mm), joints %.4f mrad "
+              "(quiet %.4f)\n",
+              flood_s, (unsigned long long)m.uart_rx_bytes, (unsigned long long)m.uart_rx_dropped, hand_mm, quiet_mm,
+              1000 * r.watch.largest_travel_rad(), 1000 * quiet.watch.largest_travel_rad());
+  EXPECT_TRUE(m.resets.empty());
+  EXPECT_EQ(rig.telemetry.boots().size(), 1u);
+  EXPECT_EQ(r.steps_commanded(), steps);
+  EXPECT_FALSE(r.watch.switch_closed);
+  EXPECT_LE(hand_mm, 0.1);
+  EXPECT_LE(r.watch.largest_travel_rad(), 1e-4);
+  EXPECT_LE(std::fabs(hand_mm - quiet_mm), 0.05);
+  // state frames all the way through, all running, their gaps as in the quiet run
+  uint32_t widest_gap_ms = 0, quiet_gap_ms = 0;
+  for (size_t i = first_frame + 1; i < rig.telemetry.states().size(); ++i) {
+    const protocol::StateMsg& s = rig.telemetry.states()[i];
+    EXPECT_EQ(s.state, (uint8_t)core::ArmState::running) << "at " << s.t_ms << " ms";
+    widest_gap_ms = std::max(widest_gap_ms, s.t_ms - rig.telemetry.states()[i - 1].t_ms);
+  }
+  for (size_t i = 1; i < quiet.rig.telemetry.states().size(); ++i)
+    quiet_gap_ms = std::max(quiet_gap_ms, quiet.rig.telemetry.states()[i].t_ms - quiet.rig.telemetry.states()[i - 1].t_ms);
+  EXPECT_LE(widest_gap_ms, quiet_gap_ms + 5);
+  EXPECT_EQ(rig.telemetry.stream().parser().crc_errors(), 0) << "the firmware's own frames stay intact";
+  EXPECT_EQ(rig.telemetry.stream().seq_gaps(), 0u);
+  EXPECT_GT(rig.last().rx_crc_errors + rig.last().rx_framing_errors, 1000) << "the firmware counted the garbage";
+  EXPECT_GE(rig.last().t_ms, (uint32_t)(1000 * (r.t_rest_s + flood_s)));
+  // the link still answers: a mode command after the flood
+  const size_t replies = rig.telemetry.replies().size();
+  const uint8_t xz[] = {(uint8_t)config::Mode::xz};
+  rig.sim.send_serial(command(protocol::MsgType::cmd_mode, 7, {xz[0]}));
+  rig.run_to(rig.sim.time_s() + 0.1);
+  ASSERT_GT(rig.telemetry.replies().size(), replies);
+  EXPECT_EQ(rig.telemetry.replies().back().command_seq, 7);
+  EXPECT_EQ(rig.telemetry.replies().back().status, (uint8_t)protocol::ReplyStatus::ok);
+  EXPECT_EQ(rig.last().mode, (uint8_t)config::Mode::xz);
 }
 
 }  // namespace
