@@ -8,6 +8,7 @@
 #include "core/dc_servo.h"
 #include "core/faults.h"
 #include "core/homing.h"
+#include "core/joint_acceleration.h"
 #include "core/joint_map.h"
 #include "core/resolved_rate.h"
 #include "core/stepper_tracking.h"
@@ -19,6 +20,11 @@
 #include "drivers/system_tick.h"
 #include "kinematics/forward_kinematics.h"
 #include "wmra_mega/board.h"
+
+// Start-up, state changes, the status report and the joint-space moves (homing, to the ready
+// pose: no kinematics) are optimised for size, so that the stick's iteration can stay at -O3
+// within the 64 KB flash budget (3 KB less).
+#define WMRA_COLD __attribute__((cold, optimize("Os")))
 
 namespace wmra {
 namespace app {
@@ -51,10 +57,25 @@ constexpr control::StepRampConfig kRampConfig[3] = {
 constexpr core::StepperTracking kTracking[3] = {{kStepperPositionGain_per_s, kRampConfig[0].accel_steps_s2},
                                                 {kStepperPositionGain_per_s, kRampConfig[1].accel_steps_s2},
                                                 {kStepperPositionGain_per_s, kRampConfig[2].accel_steps_s2}};
+// each joint reference's largest change of speed per tick
+constexpr fx::Real accel_per_tick(int16_t crad_s2) { return fx::real(Ratio{crad_s2, 100 * (int32_t)kLoopHz}); }
+constexpr fx::Real kMaxSpeedChangePerTick[6] = {accel_per_tick(kJointAccelLimit_crad_s2[0]), accel_per_tick(kJointAccelLimit_crad_s2[1]),
+                                               accel_per_tick(kJointAccelLimit_crad_s2[2]), accel_per_tick(kJointAccelLimit_crad_s2[3]),
+                                               accel_per_tick(kJointAccelLimit_crad_s2[4]), accel_per_tick(kJointAccelLimit_crad_s2[5])};
+static_assert(kJointAccelLimit_crad_s2[0] * 10 <= kStepperAccel_crad_s2[0] * 9 &&
+                  kJointAccelLimit_crad_s2[4] * 10 <= kStepperAccel_crad_s2[1] * 9 &&
+                  kJointAccelLimit_crad_s2[5] * 10 <= kStepperAccel_crad_s2[2] * 9,
+              "a stepper's reference accelerates at most 90 % of its ramp's limit, or the ramp cannot catch up");
 static_assert(control::step_ramp_constants(steppers::kTickHz, kRampConfig[0]).status == control::RampStatus::ok &&
                   control::step_ramp_constants(steppers::kTickHz, kRampConfig[1]).status == control::RampStatus::ok &&
                   control::step_ramp_constants(steppers::kTickHz, kRampConfig[2]).status == control::RampStatus::ok,
               "a stepper's acceleration or top speed does not fit its ramp (lib/control/step_ramp.h)");
+
+// the DC joints' feedforward: effort (Q15 through a Unit) per rad/s of reference speed
+constexpr fx::Unit kDcFeedforward[3] = {fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[0]}), fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[1]}),
+                                        fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[2]})};
+// a joint-space move's step per tick (Angle counts) as a speed
+constexpr int32_t kRealPerAngleCountPerTick = (int32_t)(core::kRealPerRad * kLoopHz / core::kAngleCountsPerRad + 0.5);
 
 constexpr int16_t permille_q15(int16_t permille) { return (int16_t)((int32_t)permille * 32767 / 1000); }
 
@@ -76,7 +97,8 @@ int32_t g_lag_slow_units[3], g_lag_stop_units[3], g_lag_fault_units[3];
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
 core::AngleAccumulator g_q[6];  // joint references
-fx::Real g_qd[6];
+fx::Real g_qd[6];             // joint reference velocities
+kin::Vec3<fx::Real> g_v_m_s;  // the hand's commanded velocity, as far as g_qd has reached it
 kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
 uint32_t g_faults;            // latched
 uint16_t g_ms;
@@ -93,11 +115,15 @@ Status g_status;
 
 // --- drives on and off
 
-void drives_off() {
+// A stepper that was turning when its driver went off coasts on unheld (J1, with the arm on
+// it, 18 deg past its switch after the safety button at speed): its step count no longer says
+// where it is, so the steppers are homed again before the next motion.
+WMRA_COLD void drives_off() {
   steppers::kill();
   bridges::all_off();
   for (uint8_t i = 0; i < 3; ++i) {
     steppers::Command c(i);
+    if (c.ramp().running()) g_homed = false;
     c.ramp().halt();
     g_q[kStepperJoint[i]].set(kStepperMap[i].angle(c.ramp().position_steps()));
   }
@@ -108,7 +134,7 @@ void drives_off() {
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
 }
 
-void drives_on() {
+WMRA_COLD void drives_on() {
   for (uint8_t d = 0; d < 3; ++d) {
     g_servo[d].rest(g_dc_units[d]);
     g_q[kDcJoint[d]].set(g_pot[d].angle(g_dc_units[d]));
@@ -119,8 +145,11 @@ void drives_on() {
 
 // --- joint-space moves (to the ready pose, to a stored pose)
 
-void begin_move(const int32_t* angles) {
-  for (uint8_t j = 0; j < 6; ++j) g_target[j].raw = angles[j];
+WMRA_COLD void begin_move(const int32_t* angles) {
+  for (uint8_t j = 0; j < 6; ++j) {
+    g_target[j].raw = angles[j];
+    g_qd[j] = fx::Real{0};
+  }
   for (uint8_t i = 0; i < 3; ++i) {
     const uint8_t j = kStepperJoint[i];
     const int32_t speed = steps_per_s(i, (int16_t)(kJointSpeedLimit_crad_s[j] * kJointMoveSpeed.num / kJointMoveSpeed.den));
@@ -130,7 +159,7 @@ void begin_move(const int32_t* angles) {
   g_at_target = false;
 }
 
-void move_tick() {
+WMRA_COLD void move_tick() {
   bool arrived = true;
   for (uint8_t i = 0; i < 3; ++i) {
     const int32_t position = steppers::ramp(i).position_steps();
@@ -146,6 +175,7 @@ void move_tick() {
     if (step > max_step) step = max_step;
     if (step < -max_step) step = -max_step;
     g_q[j].set(fx::Angle{g_q[j].angle.raw + step});
+    g_qd[j] = fx::Real{step * kRealPerAngleCountPerTick};
     const int32_t error = g_pot[d].angle(g_dc_units[d]).raw - g_target[j].raw;
     if (g_q[j].angle.raw != g_target[j].raw || error > kTolerance || error < -kTolerance) arrived = false;
   }
@@ -154,7 +184,7 @@ void move_tick() {
 
 // --- homing
 
-void homing_tick(uint16_t switches) {
+WMRA_COLD void homing_tick(uint16_t switches) {
   bool all_done = true;
   for (uint8_t i = 0; i < 3; ++i) {
     {
@@ -235,14 +265,19 @@ void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8
 
   const core::JointRates rates = core::resolved_rate(q, trig, corrected, kLimits);
   g_status.slowed_by = rates.slowed_by;
+  fx::Real max_change[6];
+  for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
+  const fx::Unit k = core::limit_joint_acceleration(g_qd, rates.qd_rad_s, max_change);
+  g_v_m_s.x = g_v_m_s.x + k * (rates.scale * twist.v_m_s.x - g_v_m_s.x);
+  g_v_m_s.y = g_v_m_s.y + k * (rates.scale * twist.v_m_s.y - g_v_m_s.y);
+  g_v_m_s.z = g_v_m_s.z + k * (rates.scale * twist.v_m_s.z - g_v_m_s.z);
   constexpr core::Scale kPerTick = core::scale_for(1.0 / kLoopHz);
   for (uint8_t n = 0; n < ticks; ++n) {
-    g_p_cmd.x.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.x).raw);
-    g_p_cmd.y.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.y).raw);
-    g_p_cmd.z.raw += core::apply(kPerTick, (rates.scale * twist.v_m_s.z).raw);
-    for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(rates.qd_rad_s[j]);
+    g_p_cmd.x.raw += core::apply(kPerTick, g_v_m_s.x.raw);
+    g_p_cmd.y.raw += core::apply(kPerTick, g_v_m_s.y.raw);
+    g_p_cmd.z.raw += core::apply(kPerTick, g_v_m_s.z.raw);
+    for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(g_qd[j]);
   }
-  for (uint8_t j = 0; j < 6; ++j) g_qd[j] = rates.qd_rad_s[j];
   for (uint8_t i = 0; i < 3; ++i) {
     const uint8_t j = kStepperJoint[i];
     const int32_t error = kStepperMap[i].steps(g_q[j].angle) - steppers::ramp(i).position_steps();
@@ -255,15 +290,17 @@ void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8
 // Every joint's reference where the joint is: a DC joint that arrived within
 // kArrivedTolerance_mdeg of a move's target would otherwise go on to it with the stick neutral
 // (J3 ended the move to the ready pose 13 mrad short and crept there over 3 s).
-void start_running() {
+WMRA_COLD void start_running() {
   drives_on();
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
   g_p_cmd = kin::hand_position<Fixed>(kin::arm_trig<Fixed>(q));
+  g_v_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
+  for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
   g_moving = false;
 }
 
-void enter(core::ArmState state) {
+WMRA_COLD void enter(core::ArmState state) {
   switch (state) {
     case core::ArmState::homing:
       drives_on();
@@ -291,11 +328,13 @@ void dc_tick() {
     const int32_t reference = g_pot[d].units(g_q[kDcJoint[d]].angle);
     const int32_t lag = reference - g_dc_units[d];
     if (lag > g_lag_fault_units[d] || lag < -g_lag_fault_units[d]) g_faults |= core::fault_mask(core::kFaultBitTracking);
-    bridges::set(d, g_servo[d].update(reference, g_dc_units[d]));
+    const int32_t feedforward = (kDcFeedforward[d] * g_qd[kDcJoint[d]]).raw >> 8;
+    const int16_t feedforward_q15 = (int16_t)(feedforward > 32767 ? 32767 : feedforward < -32767 ? -32767 : feedforward);
+    bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15));
   }
 }
 
-void configure(Settings& settings) {
+WMRA_COLD void configure(Settings& settings) {
   constexpr control::JoystickConfig kStick{1023,
                                            kStickRailMargin_counts,
                                            kStickRailTicks,
@@ -346,13 +385,13 @@ void configure(Settings& settings) {
                                     (int32_t)kSignDistance_counts * u, (int32_t)kMaxStep_counts_per_ms * u,
                                     (int32_t)kRailMargin_counts * u, (int32_t)(1023 - kRailMargin_counts) * u,
                                     (uint8_t)kRailTime_ms},
-        (int32_t)kDcParkBand_counts * u, (uint16_t)kDcParkTime_ms});
+        (int32_t)kDcParkBand_counts * u, (uint16_t)kDcParkTime_ms, (uint16_t)kDcUnparkTime_ms});
   }
 }
 
 }  // namespace
 
-void start(Settings& settings) {
+WMRA_COLD void start(Settings& settings) {
   g_settings = &settings;
   configure(settings);
   adc::start(kAdcOrder, sizeof kAdcOrder);
@@ -456,7 +495,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   g_status.stick_q15[1] = stick.y_q15;
 }
 
-const Status& status() {
+WMRA_COLD const Status& status() {
   for (uint8_t i = 0; i < 3; ++i)
     g_status.q_measured[kStepperJoint[i]] = kStepperMap[i].angle(steppers::ramp(i).position_steps());
   for (uint8_t d = 0; d < 3; ++d) g_status.q_measured[kDcJoint[d]] = g_pot[d].angle(g_dc_units[d]);

@@ -59,6 +59,11 @@ constexpr int16_t kPositionUnitsPerCount = 16;
 constexpr Ratio kDcKp[3] = {{5527, 100000}, {8799, 100000}, {7020, 100000}};
 constexpr Ratio kDcKi_per_s[3] = {{12754, 100000}, {24367, 100000}, {25922, 100000}};
 constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}};
+// Velocity feedforward: each joint's speed at full duty without load, hundredths of a rad/s
+// (the Mabuchi 578VA's 85 rpm at its worm's output over the joint's gear, 4.5, 2.5 and 2:1;
+// measure on the arm). The PID adds speed / this as effort, and its integral the rest (load,
+// friction).
+constexpr int16_t kDcFullDutySpeed_crad_s[3] = {198, 356, 445};
 // effort ramps from 0 to full in 50 ms; the worm's stiction needs 11 % duty to break away;
 // below 1 % effort the duty is 0
 constexpr int16_t kDcRampTime_ms = 50;
@@ -67,6 +72,8 @@ constexpr int16_t kDcZeroBand_permille = 10;
 // park (duty 0: the worm holds) once within this many ADC counts for this long
 constexpr int16_t kDcParkBand_counts = 1;
 constexpr int16_t kDcParkTime_ms = 50;
+// and leave it when the error stays beyond twice the band this long (a noisy reading is one tick)
+constexpr int16_t kDcUnparkTime_ms = 10;
 // seed 1's relay with dead zone instead of the PID
 constexpr bool kDcUseRelay = false;
 constexpr int16_t kRelayDeadZone_counts = 2;
@@ -114,6 +121,12 @@ static_assert(kPotAtMin_mV > 100 && kPotAtMax_mV < kAdcRef_mV - 100 && kPotAtMin
               "the pot range must leave both rails for fault detection");
 static_assert(kDcRampTime_ms > 0 && kDcMinDuty_permille >= 0 && kDcMinDuty_permille < 500 && kDcZeroBand_permille >= 0,
               "DC duty shaping");
+static_assert(kDcParkBand_counts >= 1 && kDcParkTime_ms > 0 && kDcUnparkTime_ms > 0 && kDcUnparkTime_ms <= 100,
+              "parking: a band of at least a count, left after at most 100 ms out of it");
+static_assert(kDcFullDutySpeed_crad_s[0] >= 100 && kDcFullDutySpeed_crad_s[1] >= 100 && kDcFullDutySpeed_crad_s[2] >= 100 &&
+                  kDcFullDutySpeed_crad_s[0] <= 2000 && kDcFullDutySpeed_crad_s[1] <= 2000 &&
+                  kDcFullDutySpeed_crad_s[2] <= 2000,
+              "DC joint speeds at full duty in [1, 20] rad/s");
 static_assert(kTrackingSlowFrom_mrad > 0 && kTrackingSlowFrom_mrad < kTrackingStopAt_mrad &&
                   kTrackingStopAt_mrad < kTrackingFault_mrad,
               "tracking: slow from < stop at < fault");

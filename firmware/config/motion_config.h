@@ -19,6 +19,10 @@ constexpr Ratio kMaxWristSpeed_rad_s{80, 100};
 // joint speed limits J1..J6, in hundredths of a rad/s
 constexpr int16_t kJointSpeedLimit_crad_s[6] = {80, 100, 100, 160, 150, 150};
 
+// acceleration limits of the joint references J1..J6, hundredths of a rad/s^2: the steppers'
+// below their ramps' (joints_config.h), so that a ramp follows its reference with some to
+// spare for corrections; the DC joints' well within what their motors do under load
+constexpr int16_t kJointAccelLimit_crad_s2[6] = {50, 300, 300, 300, 350, 350};
 // Soft joint limits: a joint stops this far inside its switch, and slows down linearly over
 // the zone before that; motion away from the limit is never slowed.
 constexpr int16_t kSoftLimitMargin_deg = 3;
@@ -34,6 +38,12 @@ constexpr bool joint_speeds_in_range() {
   return true;
 }
 static_assert(joint_speeds_in_range(), "joint speed limits in (0, 3] rad/s");
+constexpr bool joint_accels_in_range() {
+  for (int j = 0; j < 6; ++j)
+    if (kJointAccelLimit_crad_s2[j] < 10 || kJointAccelLimit_crad_s2[j] > 2000) return false;
+  return true;
+}
+static_assert(joint_accels_in_range(), "joint acceleration limits in [0.1, 20] rad/s^2");
 static_assert(kSoftLimitMargin_deg >= 1 && kSoftLimitMargin_deg <= 10, "soft-limit margin in [1, 10] deg");
 static_assert(kSoftLimitZone_deg >= 2 && kSoftLimitZone_deg <= 30, "soft-limit zone in [2, 30] deg");
 

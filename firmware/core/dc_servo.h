@@ -1,11 +1,21 @@
 // One DC joint's position servo: the reference (pot units) in, a duty out, with the
 // plausibility checks of its potentiometer and motion.
 //
-// Controller: the PID of lib/control/pid.h, or seed 1's relay with dead zone (config). Parking:
-// a worm-geared joint holds itself unpowered, so once the error has stayed within park_units
-// for park_ticks the duty is 0 and the PID restarts bumplessly from rest every tick, until the
-// error leaves twice the band; holding with the integral's effort would draw current (about
-// 20 A stretched) for nothing. The checks get the duty that was applied during the tick that
+// Controller: the PID of lib/control/pid.h with the reference speed's feedforward, or seed 1's
+// relay with dead zone (config). Parking: a worm-geared joint holds itself unpowered, so once
+// the reference stands (no feedforward) and the error has stayed within park_units for
+// park_ticks, the duty is 0 and the PID restarts bumplessly from rest every tick, until the
+// error stays out of twice the band for unpark_ticks (one noisy reading at a count's edge
+// must not start the motor) or the reference moves; holding with the integral's effort would
+// draw current (about 20 A stretched) for nothing. A moving reference never parks: a slow one
+// would otherwise stop and restart on every pot count (stick-slip).
+//
+// Holding effort: the worm does not let the load drive the joint, so a joint that lifts its
+// load needs a large effort before it moves at all (J3 lifting the stretched forearm and the
+// payload: 70 % duty), and one that lowers it needs little. Restarting the integral from zero
+// after each park left J3 standing for most of a second while the error built it up. So the
+// integral's effort while the reference moves is remembered per direction, and a restart in
+// that direction presets the integral with it (not a restart to correct a standing error). The checks get the duty that was applied during the tick that
 // ends with the reading, as PlausibilityMonitor requires.
 #pragma once
 
@@ -25,6 +35,7 @@ struct DcServoConfig {
   control::PlausibilityConfig checks;
   int32_t park_units;
   uint16_t park_ticks;
+  uint16_t unpark_ticks;  // a standing reference: out of twice the band this long (not a noise spike)
 };
 
 class DcServo {
@@ -40,6 +51,7 @@ class DcServo {
     pid_.start(measured_units, measured_units, 0);
     parked_ = true;
     in_band_ = 0;
+    out_of_band_ = 0;
     applied_ = 0;
   }
   void reset_checks(int32_t measured_units) { checks_.reset(measured_units); }
@@ -47,28 +59,36 @@ class DcServo {
   // The reading of this tick: runs the checks (on the duty applied since the last reading).
   uint8_t check(int32_t measured_units) { return checks_.update(applied_, measured_units); }
 
-  // The duty for the next tick.
-  int16_t update(int32_t reference_units, int32_t measured_units) {
+  // The duty for the next tick. feedforward_q15: the effort the reference's speed needs; 0
+  // (within the PID's zero band) for a standing reference. Not inlined: three copies unrolled
+  // into the loop cost 3 KB of flash for a call's 50 cycles.
+  __attribute__((noinline)) int16_t update(int32_t reference_units, int32_t measured_units, int16_t feedforward_q15) {
     const int32_t e = reference_units - measured_units;
     const uint32_t error = (uint32_t)(e < 0 ? -e : e);
+    const bool still = feedforward_q15 < c_.pid.zero_band_q15 && -feedforward_q15 < c_.pid.zero_band_q15;
+    const uint8_t direction = feedforward_q15 < 0 ? 1 : 0;
     if (parked_) {
-      if (error > 2 * (uint32_t)c_.park_units) {
+      out_of_band_ = error > 2 * (uint32_t)c_.park_units ? (uint16_t)(out_of_band_ + 1) : 0;
+      if (!still || out_of_band_ >= c_.unpark_ticks) {
         parked_ = false;
-        in_band_ = 0;
+        in_band_ = out_of_band_ = 0;
+        if (!still) pid_.preset_integral(holding_q15_[direction]);
       } else {
         pid_.start(reference_units, measured_units, 0);
         applied_ = 0;
         return 0;
       }
     }
-    in_band_ = error <= (uint32_t)c_.park_units ? (uint16_t)(in_band_ + 1) : 0;
+    in_band_ = still && error <= (uint32_t)c_.park_units ? (uint16_t)(in_band_ + 1) : 0;
     if (in_band_ >= c_.park_ticks) {
       parked_ = true;
       pid_.start(reference_units, measured_units, 0);
       applied_ = 0;
       return 0;
     }
-    applied_ = c_.use_relay ? relay_.update(reference_units, measured_units) : pid_.update(reference_units, measured_units);
+    applied_ = c_.use_relay ? relay_.update(reference_units, measured_units)
+                            : pid_.update(reference_units, measured_units, feedforward_q15);
+    if (!still) holding_q15_[direction] = (int16_t)(pid_.integral_q23() >> 8);
     return applied_;
   }
 
@@ -80,7 +100,9 @@ class DcServo {
   control::Pid pid_;
   control::Relay relay_;
   control::PlausibilityMonitor checks_;
+  int16_t holding_q15_[2] = {0, 0};  // moving up (positive), down
   bool parked_ = true;
+  uint16_t out_of_band_ = 0;
   uint16_t in_band_ = 0;
   int16_t applied_ = 0;
 };

@@ -12,7 +12,10 @@
 //        d c5/dt = -s5 qd5,   d s3/dt = c3 qd3,
 //        d R5/dt = -(s2 a2 qd2 + s23 a3 (qd2 + qd3) + s234 a4 (qd2 + qd3 + qd4)).
 //   3. Soft joint limits. A joint moving towards a limit may go at its speed limit times
-//      (distance to its soft stop) / zone, 0 at the stop, which lies a margin inside the switch.
+//      (distance to its soft stop) / zone, 0 at the stop, which lies a margin inside the switch;
+//      and at most sqrt(2 (3/4) a d), the speed it can still brake from within the distance d
+//      at 3/4 of its acceleration limit a (joint_acceleration.h applies a, with the rest to
+//      spare): J1, at 0.5 rad/s^2, needs 37 deg to stop from its 0.8 rad/s.
 //   4. Joint speed limits. Every |s qd_j| <= allowed_j.
 // One common factor s satisfies all of them, so the hand keeps its direction (SPEC section 5);
 // s only shrinks, and a joint that needs a division (1/|qd_j| from a table reciprocal) is
@@ -20,6 +23,7 @@
 #pragma once
 
 #include "config/motion_config.h"
+#include "core/joint_map.h"
 #include "kinematics/inverse_jacobian.h"
 #include "kinematics/inverse_kinematics.h"
 
@@ -46,7 +50,18 @@ struct MotionLimits {
   fx::Real joint_speed_rad_s[arm::kJoints];
   fx::Angle soft_min[arm::kJoints];
   fx::Angle soft_max[arm::kJoints];
+  int32_t brake_from[arm::kJoints];  // Angle counts: closer to a soft stop, braking limits the speed
+  Scale brake_speed_sq[arm::kJoints];  // the braking speed squared, (2^-10 rad/s)^2, per Angle count
 };
+
+// 2 (3/4) a in (2^-10 rad/s)^2 per Angle count, for a in rad/s^2 x 100
+constexpr double brake_speed_sq_per_count(int16_t accel_crad_s2) {
+  return 1.5 * accel_crad_s2 / 100.0 * 1048576.0 / kAngleCountsPerRad;
+}
+// v^2 / (2 (3/4) a): beyond it the joint brakes from its speed limit in time
+constexpr int32_t brake_from_counts(int16_t speed_crad_s, int16_t accel_crad_s2) {
+  return (int32_t)((speed_crad_s / 100.0) * (speed_crad_s / 100.0) / (1.5 * accel_crad_s2 / 100.0) * kAngleCountsPerRad) + 1;
+}
 
 constexpr MotionLimits motion_limits() {
   using L = kin::JointLimits<Fixed>;
@@ -65,7 +80,19 @@ constexpr MotionLimits motion_limits() {
        fx::Angle{L::max[2].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
        fx::Angle{L::max[3].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
        fx::Angle{L::max[4].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
-       fx::Angle{L::max[5].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw}}};
+       fx::Angle{L::max[5].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw}},
+      {brake_from_counts(config::kJointSpeedLimit_crad_s[0], config::kJointAccelLimit_crad_s2[0]),
+       brake_from_counts(config::kJointSpeedLimit_crad_s[1], config::kJointAccelLimit_crad_s2[1]),
+       brake_from_counts(config::kJointSpeedLimit_crad_s[2], config::kJointAccelLimit_crad_s2[2]),
+       brake_from_counts(config::kJointSpeedLimit_crad_s[3], config::kJointAccelLimit_crad_s2[3]),
+       brake_from_counts(config::kJointSpeedLimit_crad_s[4], config::kJointAccelLimit_crad_s2[4]),
+       brake_from_counts(config::kJointSpeedLimit_crad_s[5], config::kJointAccelLimit_crad_s2[5])},
+      {scale_for(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[0])),
+       scale_for(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[1])),
+       scale_for(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[2])),
+       scale_for(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[3])),
+       scale_for(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[4])),
+       scale_for(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[5]))}};
 }
 
 // clamp a Real to [0, 1] as a Unit
@@ -144,6 +171,10 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
       const int32_t distance = qd[j].raw > 0 ? limits.soft_max[j].raw - q.q[j].raw : q.q[j].raw - limits.soft_min[j].raw;
       if (distance < kZoneCounts) {
         allowed = fraction(fx::Real{distance * kInvZone.raw}) * allowed;
+      }
+      if (distance < limits.brake_from[j]) {
+        const fx::Real brake{distance <= 0 ? 0 : (int32_t)fx::isqrt32((uint32_t)apply(limits.brake_speed_sq[j], distance)) << 13};
+        if (brake < allowed) allowed = brake;
       }
     }
     const fx::Unit before = s;

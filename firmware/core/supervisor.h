@@ -6,9 +6,9 @@
 //                         re-arm after release)
 //   any state -> fault    on a fault (latched: re-arm once the fault has cleared)
 // Re-arming (a long press or the serial command) from stopped or fault goes back to
-// wait_neutral, so nothing moves until the stick has been seen neutral again; the steppers
-// were never powered off without the supervisor knowing, so they are re-homed only if they
-// had not finished homing. A short press in running cycles the modes of config::kModeCycle.
+// wait_neutral, so nothing moves until the stick has been seen neutral again; from there the
+// steppers are homed again unless `homed` still holds (the firmware drops it when a stepper
+// was turning as its driver went off: it coasted, and its step count is no longer its angle). A short press in running cycles the modes of config::kModeCycle.
 // A home command forgets the homing and, from running, goes back through wait_neutral.
 // The stick must be neutral for kNeutralHold_ms before any motion is enabled; a stick that
 // is not valid (at a rail: unplugged or broken) counts as not neutral.

@@ -9,6 +9,10 @@
 //                                   unwinds within a few samples once the error turns;
 //   bumpless start                  start() sets the integral so that the first output equals
 //                                   the duty already applied (0 for a joint at rest);
+//   velocity feedforward            the caller may add the effort that the setpoint's own speed
+//                                   needs (speed / the joint's speed at full duty), so that a
+//                                   moving setpoint is followed without first building an error
+//                                   and an integral;
 //   output rate limit               the effort changes by at most rate_q15 per sample: no step
 //                                   of motor voltage (the joystick ramps the setpoint, this
 //                                   covers disturbances and start-up);
@@ -16,7 +20,7 @@
 //                                   the joint's dead zone (seed 2: ~30/255) is skipped, the
 //                                   gain above it is kept, and |duty| <= out_max still holds.
 //                                   Inside the zero band the duty is 0 (no hum at rest).
-// Order per sample: P + I + D -> saturate -> rate limit (on effort) -> dead-zone inverse.
+// Order per sample: P + I + D + feedforward -> saturate -> rate limit (on effort) -> dead-zone inverse.
 //
 // Fixed point: the error and the change of the measurement are saturated to 16 bits, and each
 // term is one 16x16 product (gains Q8), so no term can wrap. Duty and effort are Q15 fractions
@@ -101,8 +105,12 @@ class Pid {
     integral_q23_ = clamp_integral(((int32_t)effort_ << 8) - clamp_i32(p_q19, -kTermLimit, kTermLimit) * 16);
   }
 
+  // Preset the integral to an effort the loop is known to need (a load it held before), so
+  // that it need not build it up from the error again; the output still ramps at the rate limit.
+  void preset_integral(int16_t effort_q15) { integral_q23_ = clamp_integral((int32_t)effort_q15 << 8); }
+
   // One sample: the duty (Q15, signed) to apply.
-  int16_t update(int32_t setpoint, int32_t measurement) {
+  int16_t update(int32_t setpoint, int32_t measurement, int16_t feedforward_q15 = 0) {
     if (!configured_) return 0;
     const int16_t e = saturate_i16(sub_saturated(setpoint, measurement));
     const int16_t dm = saturate_i16(sub_saturated(measurement, m_prev_));
@@ -110,7 +118,7 @@ class Pid {
     // P and D in Q19, each clamped far beyond full output (2^26 = 128 x full) before summing
     const int32_t p = clamp_i32(fx::mul_ss(e, c_.gains.kp_q4), -kTermLimit, kTermLimit);
     const int32_t d = clamp_i32(fx::mul_ss(dm, c_.gains.kd), -kTermLimit / 16, kTermLimit / 16) * 16;
-    const int32_t pd = p - d;
+    const int32_t pd = p - d + ((int32_t)feedforward_q15 << 4);
     const int32_t di = fx::mul_ss(e, c_.gains.ki_q8);  // Q23
     const int32_t limit = (int32_t)c_.out_max_q15 << 4;
     const int32_t hi = clamp_i32(((int32_t)effort_ + c_.rate_q15) << 4, -limit, limit);

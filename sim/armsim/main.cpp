@@ -1,6 +1,6 @@
 // armsim: run the firmware ELF at 16 MHz against the virtual arm through a scenario.
 //
-//   armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--seed N] [--rate HZ]
+//   armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--seed N] [--rate HZ] [--no-payload]
 //
 // Writes DIR/trajectory.csv, DIR/summary.json and DIR/report.html (and DIR/trace.vcd with
 // --vcd, DIR/profile.txt with --profile); see run.h.
@@ -30,11 +30,12 @@ namespace {
 int usage(const char* why) {
   if (why) std::fprintf(stderr, "armsim: %s\n", why);
   std::fprintf(stderr,
-               "usage: armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--seed N] [--rate HZ]\n"
+               "usage: armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--seed N] [--rate HZ] [--no-payload]\n"
                "  --elf   firmware image (default: %s)\n"
                "  --vcd   also write DIR/trace.vcd (pins, PWM duties, joint angles)\n"
                "  --profile  also write DIR/profile.txt (cycles per instruction, for scripts/profile-firmware)\n"
-               "  --seed  noise seed (default 1); --rate  trajectory rows per second (default 100)\n",
+               "  --seed  noise seed (default 1); --rate  trajectory rows per second (default 100)\n"
+               "  --no-payload  the hand empty (default: the 1.2 kg load case)\n",
                ARMSIM_DEFAULT_ELF[0] ? ARMSIM_DEFAULT_ELF : "none built: pass --elf");
   return 2;
 }
@@ -59,6 +60,8 @@ int main(int argc, char** argv) {
       options.vcd = true;
     } else if (a == "--profile") {
       options.profile = true;
+    } else if (a == "--no-payload") {
+      options.plant.payload = false;
     } else if (a == "--seed" && has_value) {
       char* end = nullptr;
       options.plant.seed = std::strtoull(argv[++i], &end, 10);

@@ -212,3 +212,29 @@ TEST(Pid, TracksARampedSetpoint) {
   EXPECT_LT(worst, 12.0);
   EXPECT_NEAR(j.pos, 700, 0.5);
 }
+
+// Velocity feedforward: the setpoint's speed as effort (speed / the joint's speed at full duty)
+// removes most of the lag that the loop otherwise needs to build its effort (what is left is
+// the joint's 50 ms time constant at the ramp's start), and still ends on the target.
+TEST(Pid, FeedforwardRemovesTheLagOfARamp) {
+  constexpr double kSpeed_counts_s = 100;
+  double worst[2] = {0, 0};
+  double end[2] = {0, 0};
+  for (int with_ff = 0; with_ff < 2; ++with_ff) {
+    Pid pid;
+    ASSERT_EQ(pid.configure(config()), PidStatus::ok);
+    Joint j;
+    pid.start(j.reading(), j.reading(), 0);
+    for (int k = 0; k < 4 * kRateHz; ++k) {
+      const bool ramping = k < 2 * kRateHz;
+      const double sp = 500 + std::min(k, 2 * kRateHz) * (kSpeed_counts_s / kRateHz);
+      const int16_t ff = with_ff && ramping ? (int16_t)std::lround(kSpeed_counts_s / j.k * 32767) : 0;
+      j.step(duty_fraction(pid.update((int32_t)std::lround(sp * kUnits), j.reading(), ff)), 1.0 / kRateHz);
+      if (ramping) worst[with_ff] = std::max(worst[with_ff], std::abs(sp - j.pos));
+    }
+    end[with_ff] = j.pos;
+  }
+  std::printf("lag on a 100 counts/s ramp: %.2f counts without feedforward, %.2f with\n", worst[0], worst[1]);
+  EXPECT_LT(worst[1], worst[0] / 3);
+  EXPECT_NEAR(end[1], 700, 0.5);
+}

@@ -45,7 +45,8 @@ TEST(FirmwareStartUp, HomesAndReachesTheReadyPose) {
 
 // S5: the safety button turns every output off from its interrupt (well within 1 ms), and nothing is driven (no step,
 // no PWM) until it is released and the arm re-armed. (A joint moving at the press coasts:
-// the drivers are off, as SPEC 6 asks.)
+// the drivers are off, as SPEC 6 asks. So the steppers, which were turning, no longer are where
+// their step counts say: the re-arm homes them again before the arm runs.)
 TEST(FirmwareSafety, S5SafetyButtonStopsUntilReleasedAndRearmed) {
   Rig rig(kFirmware);
   const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
@@ -75,7 +76,12 @@ TEST(FirmwareSafety, S5SafetyButtonStopsUntilReleasedAndRearmed) {
   EXPECT_EQ(rig.state(), core::ArmState::stopped);
   rig.sim.set_joystick(0.0, 0.0);
   rig.sim.send_serial(command(protocol::MsgType::cmd_rearm, 1));
-  EXPECT_GT(rig.run_until_state(core::ArmState::running, t_running + 4.0), 0) << "re-arm did not bring it back";
+  EXPECT_GT(rig.run_until_state(core::ArmState::homing, t_running + 3.0), 0) << "no homing after a stop at speed";
+  EXPECT_GT(rig.run_until_state(core::ArmState::running, t_running + 14.0), 0) << "re-arm did not bring it back";
+  // homed again: the firmware's stepper angles are the joints' (the rotors sit within a few
+  // mrad of their steps at rest)
+  rig.run_to(rig.sim.time_s() + 0.5);
+  for (int j : {0, 4, 5}) EXPECT_NEAR(rig.last().q_mrad[j], rig.sim.q()[j] * 1000.0, 5.0) << "joint " << j + 1;
 }
 
 // S10: a hung main loop (test build) ends in a watchdog reset, outputs off, and the cause reported
