@@ -4,9 +4,10 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${WMRA_BUILD_DIR:-$ROOT/build/host}"
 
-# Debian packages the project needs (SPEC section 2; chromium for the report checks)
+# Debian packages the project needs (SPEC section 2; chromium for the report checks, python3
+# for the figures of scripts/bench and scripts/demo)
 PACKAGES=(cmake make g++ pkg-config gcc-avr binutils-avr avr-libc avrdude simavr libsimavr-dev libelf-dev
-          libeigen3-dev libgtest-dev chromium)
+          libeigen3-dev libgtest-dev chromium python3)
 
 install_missing_packages() {
   local missing=()

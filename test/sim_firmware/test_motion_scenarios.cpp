@@ -1,7 +1,7 @@
 // SPEC 9's motion scenarios against the firmware ELF in the simulator: S1 and S2 (the hand
-// along an axis at full stick), S3 (the wrist turning about a still frame-6 origin) and S7
-// (stretching the arm into sin q3 = 0 and back). The figures come from the plant's true joint
-// angles (trajectory rows, 100 per second); the firmware's view from its telemetry.
+// along an axis at full stick) and S3 (the wrist turning about a still frame-6 origin); S7 is
+// test_singularity_scenario.cpp. The figures come from the plant's true joint angles
+// (trajectory rows, 100 per second); the firmware's view from its telemetry.
 #include <gtest/gtest.h>
 
 #include <array>
