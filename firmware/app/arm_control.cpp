@@ -110,6 +110,7 @@ bool g_moving;  // a joint move in running (to a stored pose)
 fx::Angle g_target[6];
 fx::Unit g_speed_scale{(int16_t)fx::kUnitOne};
 int32_t g_gripper_us_q15;  // pulse width, us x 32768
+bool g_gripper_driven;     // the servo has a pulse: the person has moved the gripper since power-up
 Settings* g_settings;
 Status g_status;
 
@@ -229,10 +230,15 @@ kin::Twist<Fixed> velocity_twist(const Requests& rq) {
   return t;
 }
 
-void gripper_tick(int16_t stick_y_q15) {
+// The servo gets no pulse until the person first moves the stick in the gripper mode: the first
+// pulse sends it to kGripperStart_us from wherever it is, which must never happen unasked
+// (passing through the mode with the stick neutral moves nothing).
+void gripper_tick(int16_t stick_y_q15, uint8_t ticks) {
+  if (stick_y_q15 == 0 && !g_gripper_driven) return;
+  g_gripper_driven = true;
   constexpr core::Scale kRate = core::scale_for(kGripperRate_us_per_s / (double)kLoopHz);
   constexpr int32_t kMin = (int32_t)kGripperMin_us << 15, kMax = (int32_t)kGripperMax_us << 15;
-  g_gripper_us_q15 += core::apply(kRate, stick_y_q15);  // us x 32768 per tick: y/32768 x rate x 32768
+  g_gripper_us_q15 += core::apply(kRate, stick_y_q15) * ticks;  // us x 32768 per tick: y/32768 x rate x 32768
   if (g_gripper_us_q15 < kMin) g_gripper_us_q15 = kMin;
   if (g_gripper_us_q15 > kMax) g_gripper_us_q15 = kMax;
   tick::set_servo_pulse_us((uint16_t)(g_gripper_us_q15 >> 15));
@@ -249,7 +255,7 @@ void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8
     twist = velocity_twist(rq);
   } else {
     twist = core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
-    if (mode == config::Mode::gripper) gripper_tick(stick.y_q15);
+    if (mode == config::Mode::gripper) gripper_tick(stick.y_q15, ticks);
   }
   const fx::Unit factor = g_speed_scale * tracking_factor();
   twist.v_m_s = {factor * twist.v_m_s.x, factor * twist.v_m_s.y, factor * twist.v_m_s.z};
@@ -444,7 +450,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   in.home_command = rq.home;
   in.homed = g_homed;
   in.at_ready = g_at_target;
-  g_supervisor.update(in, 1);
+  g_supervisor.update(in, ticks);
   const core::ArmState state = g_supervisor.state();
   if (state != g_prev_state) {
     enter(state);

@@ -1,5 +1,6 @@
 #include "arm_simulator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -38,6 +39,8 @@ struct ArmSimulator::Compare {
   avr_irq_t* compare_irq;
   avr_irq_t* pin_irq;
   bool oc = false;
+  // the last high pulse made by compare events (toggle, set, clear), as the pin showed it
+  uint64_t rise_cycle = 0, fall_cycle = 0, pulse_cycles = 0;
 };
 
 struct ArmSimulator::Stepper {
@@ -319,12 +322,19 @@ double ArmSimulator::gripper_pulse_us() const {
   if (!((avr->data[m2560::ddr_register(g.pin.port)] >> g.pin.bit) & 1)) return 0;
   const m2560::TimerSnapshot t = snapshot(avr, g.timer);
   const m2560::PinDrive drive = m2560::compare_pin_drive(t, g.channel);
-  if (drive.source != m2560::PinDrive::Source::pwm) return 0;
-  static const int prescale[8] = {0, 1, 8, 64, 256, 1024, 0, 0};
-  const m2560::TimerMode mode = m2560::timer_mode(t);
-  const double tick_us = prescale[t.tccrb & 7] * 1e6 / m2560::kCpuHz;
-  const double period_us = (mode.wave == m2560::Wave::fast_pwm ? mode.top + 1.0 : 2.0 * mode.top) * tick_us;
-  return drive.duty * period_us;
+  if (drive.source == m2560::PinDrive::Source::pwm) {
+    static const int prescale[8] = {0, 1, 8, 64, 256, 1024, 0, 0};
+    const m2560::TimerMode mode = m2560::timer_mode(t);
+    const double tick_us = prescale[t.tccrb & 7] * 1e6 / m2560::kCpuHz;
+    const double period_us = (mode.wave == m2560::Wave::fast_pwm ? mode.top + 1.0 : 2.0 * mode.top) * tick_us;
+    return drive.duty * period_us;
+  }
+  // pulses timed by compare events: the last one measured, while the frames keep coming (a
+  // hobby servo's frame is 20 ms; one missing frame and a half means the pulse has stopped)
+  constexpr double kFrameTimeout_s = 0.03;
+  const uint64_t last_edge = std::max(gripper_->rise_cycle, gripper_->fall_cycle);
+  if (gripper_->pulse_cycles == 0 || core_->cycle() - last_edge > (uint64_t)(kFrameTimeout_s * m2560::kCpuHz)) return 0;
+  return gripper_->pulse_cycles * 1e6 / m2560::kCpuHz;
 }
 
 // --- inputs
@@ -412,7 +422,14 @@ void ArmSimulator::on_compare(avr_irq_t*, uint32_t value, void* param) {
   if (m2560::compare_pin_drive(t, c->pin.channel).source == m2560::PinDrive::Source::events) {
     // the chip's OCnx: toggle, clear or set on the match (COM = 1, 2, 3)
     const int com = (t.tccra >> m2560::com_shift(c->pin.channel)) & 3;
+    const bool was = c->oc;
     c->oc = com == 1 ? !c->oc : com == 3;
+    const uint64_t now = c->sim->core_->cycle();
+    if (c->oc && !was) c->rise_cycle = now;
+    if (!c->oc && was) {
+      c->pulse_cycles = now - c->rise_cycle;
+      c->fall_cycle = now;
+    }
   } else {
     c->oc = value & 1;  // PWM modes: simavr's own waveform
   }

@@ -14,6 +14,7 @@
 
 #include "armsim/firmware_telemetry.h"
 #include "armsim/run.h"
+#include "config/control_config.h"
 #include "config/modes_config.h"
 #include "core/supervisor.h"
 #include "plant/arm_plant_config.h"
@@ -33,6 +34,10 @@ const std::string kOut = std::string(DEMO_OUT) + "/demo";
 constexpr double kMoved_mm = 20, kTurned_rad = 0.2;
 // the firmware read a full stick (shaped, in [-1000, 1000])
 constexpr int kFullStick_permille = 900;
+// Timer1 counts at 2 MHz: the firmware's pulse widths are whole half-microseconds
+constexpr double kPulseResolution_us = 0.5;
+// the simulator sees a compare's edge after the instruction under way (up to 5 cycles late)
+constexpr double kPulseJitter_us = 0.75;
 // stopped: the worm-geared DC joints hold (0.1 mrad); a stepper whose DRV8825 is disabled lets
 // its rotor fall into the nearest detent, at most one full step at the joint
 double stopped_travel_allowed_rad(int j) {
@@ -59,6 +64,7 @@ struct Stretch {
   double hand_mm = 0, wrist_rad = 0;
   bool outputs_always_off = true;
   std::array<double, 6> q_min = first.q, q_max = first.q;
+  double pulse_first_us = -1, pulse_min_us = 1e9, pulse_max_us = 0, pulse_last_us = 0;  // the gripper's D13
 };
 
 struct DemoRun {
@@ -84,6 +90,11 @@ void run_demo(DemoRun* r) {
     now.hand_mm = std::max(now.hand_mm, distance_mm(row, now.first));
     now.wrist_rad = std::max(now.wrist_rad, turned_rad(row, now.first));
     now.outputs_always_off &= sim.outputs_off();
+    const double pulse_us = sim.gripper_pulse_us();
+    if (now.pulse_first_us < 0) now.pulse_first_us = pulse_us;
+    now.pulse_min_us = std::min(now.pulse_min_us, pulse_us);
+    now.pulse_max_us = std::max(now.pulse_max_us, pulse_us);
+    now.pulse_last_us = pulse_us;
     for (int j = 0; j < 6; ++j) {
       now.q_min[j] = std::min(now.q_min[j], row.q[j]);
       now.q_max[j] = std::max(now.q_max[j], row.q[j]);
@@ -113,6 +124,11 @@ void check_modes(const DemoRun& d) {
   std::map<int, Stretch> best;
   for (const Stretch& s : d.stretches) {
     if (s.state != ArmState::running) continue;
+    // outside the gripper mode the servo keeps its pulse (none before the gripper's first use,
+    // so that start-up never moves it): the gripper holds what it holds
+    if (s.mode != (int)config::Mode::gripper) {
+      EXPECT_LE(s.pulse_max_us - s.pulse_min_us, kPulseJitter_us) << "mode " << s.mode << " at " << s.first.t_s << " s";
+    }
     Stretch& b = best.emplace(s.mode, s).first->second;
     b.hand_mm = std::max(b.hand_mm, s.hand_mm);
     b.wrist_rad = std::max(b.wrist_rad, s.wrist_rad);
@@ -127,17 +143,23 @@ void check_modes(const DemoRun& d) {
       case config::Mode::xz: EXPECT_GE(b.hand_mm, kMoved_mm) << "mode " << (int)m; break;
       case config::Mode::r1:
       case config::Mode::r2: EXPECT_GE(b.wrist_rad, kTurned_rad) << "mode " << (int)m; break;
-      // the simulator does not measure the firmware's servo pulse (Timer1 toggling its
-      // compare pin in normal mode): the telemetry shows the stick read at full both ways
+      // the stick's y closes the gripper for 1 s, then opens it for 1 s (scenarios/demo.txt):
+      // D13's pulse, measured from its edges, starts at kGripperStart_us (none before), widens
+      // and narrows at the configured rate less the stick's ramps (the open phase first ramps
+      // down from full, still closing), within 25 % (the ramps count loop iterations: below
+      // 1 kHz they last longer), and never leaves the configured range
       case config::Mode::gripper: {
-        int stick_min = 0, stick_max = 0;
-        for (const protocol::StateMsg& f : d.telemetry.states()) {
-          if (f.mode != (uint8_t)m || f.state != (uint8_t)ArmState::running) continue;
-          stick_min = std::min<int>(stick_min, f.stick_permille[1]);
-          stick_max = std::max<int>(stick_max, f.stick_permille[1]);
-        }
-        EXPECT_GE(stick_max, kFullStick_permille);
-        EXPECT_LE(stick_min, -kFullStick_permille);
+        const double rate_us_ms = config::kGripperRate_us_per_s / 1000.0;
+        const double close_us = rate_us_ms * (1000 - config::kStickRise_ms / 2.0);
+        const double open_us = rate_us_ms * (1000 - config::kStickFall_ms - config::kStickRise_ms / 2.0);
+        std::printf("demo: gripper pulse %.1f us before, widest %.1f us (nominal %.1f), last %.1f us (nominal %.1f)\n",
+                    b.pulse_first_us, b.pulse_max_us, config::kGripperStart_us + close_us, b.pulse_last_us,
+                    b.pulse_max_us - open_us);
+        EXPECT_EQ(b.pulse_first_us, 0);
+        EXPECT_GE(b.pulse_max_us - config::kGripperStart_us, 0.75 * close_us);
+        EXPECT_GE(b.pulse_max_us - b.pulse_last_us, 0.75 * open_us);
+        EXPECT_GE(b.pulse_last_us, config::kGripperMin_us - kPulseResolution_us);
+        EXPECT_LE(b.pulse_max_us, config::kGripperMax_us + kPulseResolution_us);
         break;
       }
     }
