@@ -7,6 +7,7 @@
 #include "control/joystick.h"
 #include "core/dc_servo.h"
 #include "core/faults.h"
+#include "core/gravity.h"
 #include "core/homing.h"
 #include "core/joint_acceleration.h"
 #include "core/joint_map.h"
@@ -25,6 +26,8 @@
 // pose: no kinematics) are optimised for size, so that the stick's iteration can stay at -O3
 // within the 64 KB flash budget (3 KB less).
 #define WMRA_COLD __attribute__((cold, optimize("Os")))
+// Small per-tick work whose cycles matter less than its flash (the load model, the drives' speeds)
+#define WMRA_SMALL __attribute__((noinline, optimize("Os")))
 
 namespace wmra {
 namespace app {
@@ -98,6 +101,8 @@ int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
 core::AngleAccumulator g_q[6];  // joint references
 fx::Real g_qd[6];             // joint reference velocities
+core::HoldingEffort g_holding;  // the DC joints' holding effort at the reference pose
+uint8_t g_holding_ticks_left;   // until it is computed again
 kin::Vec3<fx::Real> g_v_m_s;  // the hand's commanded velocity, as far as g_qd has reached it
 kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
 uint32_t g_faults;            // latched
@@ -214,6 +219,26 @@ fx::Unit tracking_factor() {
   return fx::Unit{(int16_t)(f > fx::kUnitOne ? fx::kUnitOne : f)};
 }
 
+// What each joint's drive can do now: a DC joint lifting its load has the duty beyond its
+// holding effort and the reserve; the steppers' ramps follow their speed limits.
+WMRA_SMALL const core::DriveSpeeds& drive_speeds() {
+  constexpr int16_t kUsable_q15 = permille_q15(1000 - kDcDutyReserve_permille);
+  static constexpr fx::Real kFullDutySpeed[3] = {fx::real(Ratio{kDcFullDutySpeed_crad_s[0], 100}),
+                                                 fx::real(Ratio{kDcFullDutySpeed_crad_s[1], 100}),
+                                                 fx::real(Ratio{kDcFullDutySpeed_crad_s[2], 100})};
+  static core::DriveSpeeds speeds = {{kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
+                                      kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]},
+                                     {kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
+                                      kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]}};
+  for (uint8_t d = 0; d < 3; ++d) {
+    const int16_t h = g_holding.duty_q15[d];
+    const int16_t up = (int16_t)(kUsable_q15 - (h > 0 ? h : 0)), down = (int16_t)(kUsable_q15 - (h < 0 ? -h : 0));
+    speeds.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * kFullDutySpeed[d];
+    speeds.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * kFullDutySpeed[d];
+  }
+  return speeds;
+}
+
 fx::Real clamp_real(fx::Real r, int32_t limit) {
   return fx::Real{r.raw > limit ? limit : r.raw < -limit ? -limit : r.raw};
 }
@@ -269,7 +294,7 @@ void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8
   corrected.v_m_s.y = twist.v_m_s.y + clamp_real(fx::Real{(g_p_cmd.y - p.y).raw * kDriftGain_per_s}, kMaxCorrection);
   corrected.v_m_s.z = twist.v_m_s.z + clamp_real(fx::Real{(g_p_cmd.z - p.z).raw * kDriftGain_per_s}, kMaxCorrection);
 
-  const core::JointRates rates = core::resolved_rate(q, trig, corrected, kLimits);
+  const core::JointRates rates = core::resolved_rate(q, trig, corrected, kLimits, &drive_speeds());
   g_status.slowed_by = rates.slowed_by;
   fx::Real max_change[6];
   for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
@@ -329,12 +354,26 @@ WMRA_COLD void enter(core::ArmState state) {
   }
 }
 
+// the load changes with the pose, slowly: at a joint's top speed the pose moves 16 mrad between updates
+constexpr uint8_t kHoldingPeriod_ticks = 8;
+
+WMRA_SMALL void update_holding() {
+  kin::JointAngles<Fixed> q;
+  for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
+  g_holding = core::holding_effort(kin::arm_trig<Fixed>(q));
+}
+
 void dc_tick() {
+  if (g_holding_ticks_left-- == 0) {
+    g_holding_ticks_left = kHoldingPeriod_ticks - 1;
+    update_holding();
+  }
   for (uint8_t d = 0; d < 3; ++d) {
     const int32_t reference = g_pot[d].units(g_q[kDcJoint[d]].angle);
     const int32_t lag = reference - g_dc_units[d];
     if (lag > g_lag_fault_units[d] || lag < -g_lag_fault_units[d]) g_faults |= core::fault_mask(core::kFaultBitTracking);
-    const int32_t feedforward = (kDcFeedforward[d] * g_qd[kDcJoint[d]]).raw >> 8;
+    const fx::Real qd = g_qd[kDcJoint[d]];
+    const int32_t feedforward = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw);
     const int16_t feedforward_q15 = (int16_t)(feedforward > 32767 ? 32767 : feedforward < -32767 ? -32767 : feedforward);
     bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15));
   }

@@ -64,6 +64,10 @@ constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}}
 // measure on the arm). The PID adds speed / this as effort, and its integral the rest (load,
 // friction).
 constexpr int16_t kDcFullDutySpeed_crad_s[3] = {198, 356, 445};
+// Duty kept back for the PID's corrections: a DC joint that lifts its load may go only as fast
+// as the rest of full duty beyond its holding effort takes it (firmware/core/gravity.h); the
+// whole arm slows with it, so that the hand stays on its line.
+constexpr int16_t kDcDutyReserve_permille = 100;
 // effort ramps from 0 to full in 50 ms; the worm's stiction needs 11 % duty to break away;
 // below 1 % effort the duty is 0
 constexpr int16_t kDcRampTime_ms = 50;
@@ -119,6 +123,7 @@ static_assert(stepper_config_ok(), "stepper accelerations in (0, 20] rad/s^2, ho
 static_assert(kStepperPositionGain_per_s > 0 && kStepperPositionGain_per_s <= 100, "stepper position gain in (0, 100] /s");
 static_assert(kPotAtMin_mV > 100 && kPotAtMax_mV < kAdcRef_mV - 100 && kPotAtMin_mV < kPotAtMax_mV,
               "the pot range must leave both rails for fault detection");
+static_assert(kDcDutyReserve_permille >= 0 && kDcDutyReserve_permille <= 500, "the duty reserve for the PID: 0..50 %");
 static_assert(kDcRampTime_ms > 0 && kDcMinDuty_permille >= 0 && kDcMinDuty_permille < 500 && kDcZeroBand_permille >= 0,
               "DC duty shaping");
 static_assert(kDcParkBand_counts >= 1 && kDcParkTime_ms > 0 && kDcUnparkTime_ms > 0 && kDcUnparkTime_ms <= 100,

@@ -37,6 +37,17 @@ enum SlowReason : uint8_t {
   kSlowSingular = 1,
   kSlowSoftLimit = 2,
   kSlowJointSpeed = 4,
+  kSlowDriveLoad = 8,
+};
+
+// The fastest each joint's drive can turn it now, each way (rad/s): a DC joint that lifts its
+// load has only the duty left beyond its holding effort for speed (firmware/core/gravity.h).
+// Slowing every joint by the same factor when one of them would exceed it keeps the hand on
+// its line; a joint that lags behind its reference instead puts the hand off the line, and
+// when it catches up afterwards the hand jumps.
+struct DriveSpeeds {
+  fx::Real positive_rad_s[arm::kJoints];
+  fx::Real negative_rad_s[arm::kJoints];
 };
 
 struct JointRates {
@@ -125,7 +136,7 @@ inline fx::Unit limit_scale(fx::Unit s, fx::Real qd, fx::Real allowed) {
 
 template <class Trig>
 JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::Twist<Fixed>& twist,
-                         const MotionLimits& limits) {
+                         const MotionLimits& limits, const DriveSpeeds* drives = nullptr) {
   static constexpr fx::Unit kA2 = fx::unit(arm::a2), kA3 = fx::unit(arm::a3), kA4 = fx::unit(arm::a4);
   static constexpr int32_t kZoneCounts = fx::angle_deg(Ratio{config::kSoftLimitZone_deg, 1}).raw;
   static constexpr fx::Real kInvZone = fx::real(Ratio{1, kZoneCounts});  // per angle count
@@ -177,9 +188,17 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
         if (brake < allowed) allowed = brake;
       }
     }
+    uint8_t reason = allowed < limits.joint_speed_rad_s[j] ? kSlowSoftLimit : kSlowJointSpeed;
+    if (drives) {
+      const fx::Real drive = qd[j].raw >= 0 ? drives->positive_rad_s[j] : drives->negative_rad_s[j];
+      if (drive < allowed) {
+        allowed = drive;
+        reason = kSlowDriveLoad;
+      }
+    }
     const fx::Unit before = s;
     s = limit_scale(s, qd[j], allowed);
-    if (s.raw < before.raw) out.slowed_by |= allowed < limits.joint_speed_rad_s[j] ? kSlowSoftLimit : kSlowJointSpeed;
+    if (s.raw < before.raw) out.slowed_by |= reason;
   }
 
   out.scale = s;

@@ -76,6 +76,7 @@ AvrCore::AvrCore(const std::string& elf_path) {
   }
   avr_register_io_write(avr_, WMRA_PROBE_CONSOLE_IO + WMRA_PROBE_DATA_OFFSET, &AvrCore::console_write, this);
   no_level_polling();
+  keep_unwritten_timer_flags();
   min_sp_ = m2560::kRamEnd;
 }
 
@@ -123,6 +124,43 @@ uint32_t AvrCore::stack_high_water_bytes() const { return m2560::kRamEnd - min_s
 // edge, like an edge interrupt.
 void AvrCore::no_level_polling() {
   for (uint8_t i = 0; i < 8; ++i) avr_extint_set_strict_lvl_trig(avr_, i, 0);
+}
+
+// simavr 1.6's TIFRn write clears every pending flag of the timer, where the chip clears only
+// those written with a one. The firmware starts a step channel by clearing that channel's stale
+// compare flag: another channel's compare that had matched meanwhile (interrupts off) was lost,
+// and that stepper stood still until its counter came round again, 262 ms later. A hook after
+// simavr's (writers of one address run in the order they were registered) raises again every
+// flag that this very write cleared without a one in its bit.
+void AvrCore::keep_unwritten_timer_flags() {
+  // TIFR1 (the tick and the servo pulse) and TIFR5 (the steps): simavr shares an address among
+  // writers in one of only four slots
+  static constexpr avr_io_addr_t kTifr[] = {0x36, 0x3A};
+  for (avr_io_addr_t tifr : kTifr) {
+    bool any = false;
+    for (uint8_t i = 0; i < avr_->interrupts.vector_count; ++i) {
+      avr_int_vector_t* v = avr_->interrupts.vector[i];
+      if (v->raised.reg != tifr) continue;
+      timer_flags_.emplace_back(new TimerFlag{this, v, false, 0});
+      avr_irq_register_notify(v->irq + AVR_INT_IRQ_PENDING, &AvrCore::on_flag_pending, timer_flags_.back().get());
+      any = true;
+    }
+    if (any) avr_register_io_write(avr_, tifr, &AvrCore::on_tifr_write, this);
+  }
+}
+
+void AvrCore::on_flag_pending(avr_irq_t*, uint32_t value, void* param) {
+  TimerFlag* f = static_cast<TimerFlag*>(param);
+  if (f->pending && !value) f->cleared_cycle = f->core->avr_->cycle;
+  f->pending = value != 0;
+}
+
+void AvrCore::on_tifr_write(avr_t* avr, avr_io_addr_t addr, uint8_t v, void* param) {
+  AvrCore* core = static_cast<AvrCore*>(param);
+  for (auto& f : core->timer_flags_) {
+    if (f->vector->raised.reg != addr || f->pending || f->cleared_cycle != avr->cycle) continue;
+    if (!((v >> f->vector->raised.bit) & 1)) avr_raise_interrupt(avr, f->vector);
+  }
 }
 
 std::string AvrCore::watchdog_cause() const {

@@ -9,16 +9,20 @@
 //     reset listeners re-arm what they need (see ArmSimulator);
 //   - its external interrupts poll a low pin every cycle in level mode: turned off (see
 //     no_level_polling);
+//   - writing a one to one flag of a timer's TIFRn clears its other pending flags as well (the
+//     chip clears only the flags written with a one): put right, see keep_unwritten_timer_flags;
 //   - one avr_run() call executes one instruction (or one sleep interval up to the next cycle
 //     timer), then services interrupts: interrupt entry is seen as the PC landing on a vector.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "sim_avr.h"
+#include "sim_interrupts.h"
 
 namespace wmra {
 namespace sim {
@@ -82,6 +86,9 @@ class AvrCore {
   void after_reset(const std::string& cause);
   std::string watchdog_cause() const;
   void no_level_polling();
+  void keep_unwritten_timer_flags();
+  static void on_flag_pending(avr_irq_t* irq, uint32_t value, void* param);
+  static void on_tifr_write(avr_t* avr, avr_io_addr_t addr, uint8_t v, void* param);
 
   avr_t* avr_ = nullptr;
   void (*core_reset_)(avr_t*) = nullptr;
@@ -103,6 +110,13 @@ class AvrCore {
   std::string console_;
   std::vector<std::string> log_;
   std::vector<uint64_t> profile_;
+  struct TimerFlag {
+    AvrCore* core;
+    avr_int_vector_t* vector;
+    bool pending;
+    uint64_t cleared_cycle;  // the last time it went from pending to not
+  };
+  std::vector<std::unique_ptr<TimerFlag>> timer_flags_;
   static constexpr size_t kFlashWords = 128 * 1024;
 };
 

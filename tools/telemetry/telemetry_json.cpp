@@ -20,8 +20,8 @@ static_assert((uint8_t)protocol::Calibration::defaults_other_version == 3, "a na
 constexpr const char* kStatusNames[] = {"ok", "unknown_command", "bad_length", "bad_argument", "refused"};
 static_assert((uint8_t)protocol::ReplyStatus::refused == 4, "a name for every ReplyStatus");
 constexpr const char* kResetCauseNames[] = {"power_on", "external", "brown_out", "watchdog"};  // MCUSR bits 0..3
-constexpr const char* kSlowReasonNames[] = {"singular", "soft_limit", "joint_speed"};
-static_assert(core::kSlowSingular == 1 && core::kSlowSoftLimit == 2 && core::kSlowJointSpeed == 4,
+constexpr const char* kSlowReasonNames[] = {"singular", "soft_limit", "joint_speed", "drive_load"};
+static_assert(core::kSlowSingular == 1 && core::kSlowSoftLimit == 2 && core::kSlowJointSpeed == 4 && core::kSlowDriveLoad == 8,
               "kSlowReasonNames[bit]");
 constexpr const char* kSwitchNames[] = {"j1_low", "j1_high", "j2_low", "j2_high", "j3_low", "j3_high",
                                         "j4_low", "j4_high", "j5_low", "j5_high", "j6_zero"};
@@ -137,7 +137,7 @@ std::string calibration_name(uint8_t calibration) { return code_name(calibration
 std::string status_name(uint8_t status) { return code_name(status, kStatusNames); }
 std::vector<std::string> fault_names(uint32_t faults) { return bit_names(faults, core::kFaultNames, 32); }
 std::vector<std::string> reset_cause_names(uint8_t mcusr) { return bit_names(mcusr, kResetCauseNames, 4); }
-std::vector<std::string> slow_reason_names(uint8_t slowed_by) { return bit_names(slowed_by, kSlowReasonNames, 3); }
+std::vector<std::string> slow_reason_names(uint8_t slowed_by) { return bit_names(slowed_by, kSlowReasonNames, 4); }
 std::vector<std::string> switch_names(uint16_t switches) { return bit_names(switches, kSwitchNames, 11); }
 
 const char* type_name(uint8_t type) {
