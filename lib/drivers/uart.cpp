@@ -22,8 +22,10 @@ volatile uint16_t g_overruns;
 }  // namespace
 
 void start() {
-  UBRR0 = kUbrr;
+  // U2X before UBRR: the chip does not care, but simavr 1.6 computes its baud rate when UBRR
+  // is written and would otherwise run the line at half speed
   UCSR0A = (1 << U2X0);
+  UBRR0 = kUbrr;
   UCSR0C = (1 << UCSZ01) | (1 << UCSZ00);  // 8N1
   UCSR0B = (1 << RXEN0) | (1 << TXEN0) | (1 << RXCIE0);
 }
