@@ -457,7 +457,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   g_ms = (uint16_t)(g_ms + ticks);
   if (ticks > 1) g_overrun_ms = kOverrunReport_ms;
   else if (g_overrun_ms > 0) --g_overrun_ms;
-  const control::JoystickOutput stick = g_stick.update(adc[0], adc[1]);
+  const control::JoystickOutput stick = g_stick.update(adc[0], adc[1], ticks);
   const control::ButtonEvent button = g_button.update(inputs::joystick_button_down(), g_ms);
 
   // --- checks

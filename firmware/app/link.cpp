@@ -21,7 +21,7 @@ protocol::Parser g_parser;
 uint8_t g_seq;
 uint8_t g_reset_cause;
 uint16_t g_rejected;
-uint16_t g_since_state_ms;
+uint32_t g_next_state_ms;  // the next state frame is due at this tick::now_ms()
 uint16_t g_velocity_age_ms = 0xFFFF;
 uint16_t g_loop_cycles_max;
 
@@ -140,16 +140,21 @@ void start(uint8_t reset_cause, uint8_t calibration) {
   send(MsgType::boot, payload, protocol::encode(b, payload));
 }
 
-void poll(Requests& rq, uint16_t loop_cycles) {
+void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   if (loop_cycles > g_loop_cycles_max) g_loop_cycles_max = loop_cycles;
   uint8_t byte;
   for (uint8_t n = 0; n < config::kMaxRxBytesPerTick && uart::read(byte); ++n) {
     if (g_parser.feed(byte)) reply(g_parser.frame(), handle(g_parser.frame(), rq));
   }
-  if (g_velocity_age_ms != 0xFFFF) ++g_velocity_age_ms;
+  if (g_velocity_age_ms < 0xFF00) g_velocity_age_ms = (uint16_t)(g_velocity_age_ms + ticks);
   rq.velocity_fresh = g_velocity_age_ms < protocol::kVelocityTimeout_ms;
-  if (++g_since_state_ms >= protocol::kStatePeriod_ms) {
-    g_since_state_ms = 0;
+  // one frame per period, after the first iteration at or past its start (every 20 ms from
+  // boot, so the frames keep their phase whatever the iterations' lengths): the state of the
+  // iteration just run, one tick's; a period missed whole is skipped, not sent twice
+  const uint32_t now_ms = tick::now_ms();
+  if ((int32_t)(now_ms - g_next_state_ms) >= 0) {
+    g_next_state_ms += protocol::kStatePeriod_ms;
+    if ((int32_t)(now_ms - g_next_state_ms) >= 0) g_next_state_ms = now_ms - now_ms % protocol::kStatePeriod_ms + protocol::kStatePeriod_ms;
     send_state();
   }
 }

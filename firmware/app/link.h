@@ -13,8 +13,11 @@ namespace app {
 namespace link {
 
 void start(uint8_t reset_cause, uint8_t calibration);
-// one tick: commands into requests, a state frame when due; loop_cycles: this iteration's length
-void poll(Requests& requests, uint16_t loop_cycles);
+// After each iteration: commands into requests, a state frame when one is due. ticks: the 1 ms
+// ticks this iteration covered (tick::wait()), so that the frame period and the velocity
+// command's age are kept in time, not in iterations (at 665 iterations a second, counting
+// iterations gave 33 frames a second instead of 50); loop_cycles: this iteration's length.
+void poll(Requests& requests, uint8_t ticks, uint16_t loop_cycles);
 
 }  // namespace link
 }  // namespace app

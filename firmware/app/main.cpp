@@ -48,7 +48,7 @@ int main() {
     pins::write(board::kTimingProbe, false);
     const uint16_t counts = (uint16_t)(TCNT1 - begin);  // Timer1 counts at 2 MHz: 8 CPU cycles a count
     watchdog::kick();
-    app::link::poll(requests, counts > 8191 ? 0xFFFF : (uint16_t)(counts * 8));
+    app::link::poll(requests, ticks, counts > 8191 ? 0xFFFF : (uint16_t)(counts * 8));
     eeprom_store::service();
   }
 }

@@ -55,8 +55,8 @@ struct JoystickConfig {
   uint16_t centre_tolerance;     // largest |centre - adc_max / 2|
   int16_t dead_zone_q15;         // [0, 16384)
   int16_t expo_q15;              // [0, 32767]
-  int16_t rise_q15;              // per sample, > 0
-  int16_t fall_q15;              // per sample, > 0
+  int16_t rise_q15;              // per tick of the caller's clock, > 0
+  int16_t fall_q15;              // per tick of the caller's clock, > 0
   uint16_t neutral_samples;      // > 0
   uint16_t full_deflection = 0;  // counts from the centre that are a full stick; 0: up to the rail margin
 };
@@ -108,7 +108,9 @@ class Joystick {
     neutral_count_ = 0;
   }
 
-  JoystickOutput update(uint16_t raw_x, uint16_t raw_y) {
+  // ticks: the clock ticks since the last sample; the ramps advance by that many steps, so that
+  // they take the same time however often the caller samples
+  JoystickOutput update(uint16_t raw_x, uint16_t raw_y, uint8_t ticks = 1) {
     if (!configured_) return JoystickOutput{0, 0, kJoystickCalibrating | kJoystickNotArmed};
     const uint16_t raw[2] = {raw_x, raw_y};
     bool at_rail[2];
@@ -139,7 +141,7 @@ class Joystick {
     }
     int16_t target[2] = {0, 0};
     if (armed_) shape(v[0], v[1], target);
-    for (uint8_t i = 0; i < 2; ++i) out_[i] = ramp(out_[i], target[i]);
+    for (uint8_t i = 0; i < 2; ++i) out_[i] = ramp(out_[i], target[i], ticks);
     return JoystickOutput{out_[0], out_[1], status()};
   }
 
@@ -228,21 +230,22 @@ class Joystick {
     return v < 0 ? (int16_t)-r : (int16_t)r;
   }
 
-  int16_t ramp(int16_t current, int16_t target) const {
+  int16_t ramp(int16_t current, int16_t target, uint8_t ticks) const {
+    const int32_t rise = (int32_t)c_.rise_q15 * ticks, fall = (int32_t)c_.fall_q15 * ticks;
     int32_t next;
     if (current > 0 && target < current) {
-      next = (int32_t)current - c_.fall_q15;
+      next = (int32_t)current - fall;
       if (next < target) next = target;
       if (next < 0) next = 0;  // through zero one sample at a time
     } else if (current < 0 && target > current) {
-      next = (int32_t)current + c_.fall_q15;
+      next = (int32_t)current + fall;
       if (next > target) next = target;
       if (next > 0) next = 0;
     } else if (target > current) {
-      next = (int32_t)current + c_.rise_q15;  // int32: on the AVR int is 16 bits, and 32767 + rise wraps
+      next = (int32_t)current + rise;  // int32: on the AVR int is 16 bits, and 32767 + rise wraps
       if (next > target) next = target;
     } else {
-      next = (int32_t)current - c_.rise_q15;
+      next = (int32_t)current - rise;
       if (next < target) next = target;
     }
     return (int16_t)next;

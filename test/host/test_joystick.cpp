@@ -207,3 +207,20 @@ TEST(Joystick, ChannelStuckAtARailReadsNeutralAndFaults) {
   EXPECT_EQ(o.status, 0);
   EXPECT_GT(o.y_q15, 10000);
 }
+
+// The ramps count the caller's clock ticks, not its samples: sampled every tick or every third,
+// the output is the same after the same time (a loop that overruns keeps the ramps' timing).
+TEST(Joystick, RampsTakeTheSameTimeWhateverTheSampling) {
+  Joystick every = ready(512, 512), third = ready(512, 512);
+  for (int ms = 3; ms <= 1200; ms += 3) {
+    const uint16_t x = ms < 600 ? 1000 : 512;  // full right, then let go
+    JoystickOutput a{};
+    for (int k = 0; k < 3; ++k) a = every.update(x, 512);
+    const JoystickOutput b = third.update(x, 512, 3);
+    ASSERT_NEAR(a.x_q15, b.x_q15, 2 * config().fall_q15) << "at " << ms << " ms";
+    if (ms == 300) {
+      EXPECT_NEAR(b.x_q15, 300 * config().rise_q15, 3 * config().rise_q15);
+    }
+  }
+  EXPECT_EQ(third.update(512, 512, 3).x_q15, 0);
+}
