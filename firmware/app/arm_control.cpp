@@ -159,6 +159,15 @@ WMRA_COLD void begin_move(const int32_t* angles) {
   g_at_target = false;
 }
 
+// a DC joint's largest step per tick in a joint-space move (Angle counts; a table, since the
+// joint is a run-time index and the formula would be float arithmetic on the AVR)
+constexpr int32_t move_step_per_tick(uint8_t j) {
+  return (int32_t)(kJointSpeedLimit_crad_s[j] / 100.0 * kJointMoveSpeed.num / kJointMoveSpeed.den * core::kAngleCountsPerRad /
+                   kLoopHz) + 1;
+}
+constexpr int32_t kMoveStepPerTick[3] = {move_step_per_tick(kDcJoint[0]), move_step_per_tick(kDcJoint[1]),
+                                         move_step_per_tick(kDcJoint[2])};
+
 WMRA_COLD void move_tick() {
   bool arrived = true;
   for (uint8_t i = 0; i < 3; ++i) {
@@ -169,8 +178,7 @@ WMRA_COLD void move_tick() {
   constexpr int32_t kTolerance = (int32_t)(kArrivedTolerance_mdeg / 1000.0 / 360.0 * fx::kAngleTurn);
   for (uint8_t d = 0; d < 3; ++d) {
     const uint8_t j = kDcJoint[d];
-    const int32_t max_step = (int32_t)(kJointSpeedLimit_crad_s[j] / 100.0 * kJointMoveSpeed.num / kJointMoveSpeed.den *
-                                       core::kAngleCountsPerRad / kLoopHz) + 1;
+    const int32_t max_step = kMoveStepPerTick[d];
     int32_t step = g_target[j].raw - g_q[j].angle.raw;
     if (step > max_step) step = max_step;
     if (step < -max_step) step = -max_step;
