@@ -151,19 +151,33 @@ WMRA_COLD void drives_on() {
 
 // --- joint-space moves (to the ready pose, to a stored pose)
 
+// The configuration's derived numbers are constexpr tables: computed at run time (a joint is a
+// run-time index) they were float arithmetic, 4 KB of start-up code and the float library.
+constexpr int32_t move_speed_steps_s(uint8_t i) {
+  return steps_per_s(i, (int16_t)(kJointSpeedLimit_crad_s[kStepperJoint[i]] * kJointMoveSpeed.num / kJointMoveSpeed.den));
+}
+constexpr int32_t kMoveSpeed_steps_s[3] = {move_speed_steps_s(0), move_speed_steps_s(1), move_speed_steps_s(2)};
+
 WMRA_COLD void begin_move(const int32_t* angles) {
   for (uint8_t j = 0; j < 6; ++j) {
     g_target[j].raw = angles[j];
     g_qd[j] = fx::Real{0};
   }
   for (uint8_t i = 0; i < 3; ++i) {
-    const uint8_t j = kStepperJoint[i];
-    const int32_t speed = steps_per_s(i, (int16_t)(kJointSpeedLimit_crad_s[j] * kJointMoveSpeed.num / kJointMoveSpeed.den));
     steppers::Command c(i);
-    c.ramp().move_to(kStepperMap[i].steps(g_target[j]), (uint32_t)speed);
+    c.ramp().move_to(kStepperMap[i].steps(g_target[kStepperJoint[i]]), (uint32_t)kMoveSpeed_steps_s[i]);
   }
   g_at_target = false;
 }
+
+// a DC joint's largest step per tick in a joint-space move (Angle counts; a table, since the
+// joint is a run-time index and the formula would be float arithmetic on the AVR)
+constexpr int32_t move_step_per_tick(uint8_t j) {
+  return (int32_t)(kJointSpeedLimit_crad_s[j] / 100.0 * kJointMoveSpeed.num / kJointMoveSpeed.den * core::kAngleCountsPerRad /
+                   kLoopHz) + 1;
+}
+constexpr int32_t kMoveStepPerTick[3] = {move_step_per_tick(kDcJoint[0]), move_step_per_tick(kDcJoint[1]),
+                                         move_step_per_tick(kDcJoint[2])};
 
 WMRA_COLD void move_tick() {
   bool arrived = true;
@@ -175,8 +189,7 @@ WMRA_COLD void move_tick() {
   constexpr int32_t kTolerance = (int32_t)(kArrivedTolerance_mdeg / 1000.0 / 360.0 * fx::kAngleTurn);
   for (uint8_t d = 0; d < 3; ++d) {
     const uint8_t j = kDcJoint[d];
-    const int32_t max_step = (int32_t)(kJointSpeedLimit_crad_s[j] / 100.0 * kJointMoveSpeed.num / kJointMoveSpeed.den *
-                                       core::kAngleCountsPerRad / kLoopHz) + 1;
+    const int32_t max_step = kMoveStepPerTick[d];
     int32_t step = g_target[j].raw - g_q[j].angle.raw;
     if (step > max_step) step = max_step;
     if (step < -max_step) step = -max_step;
@@ -379,6 +392,40 @@ void dc_tick() {
   }
 }
 
+constexpr core::HomingConfig homing_config(uint8_t i) {
+  return core::HomingConfig{kHomingDir[i],
+                            steps_per_s(i, kHomingFast_crad_s[i]),
+                            steps_per_s(i, kHomingSlow_crad_s[i]),
+                            steps_of_deg(i, kHomingBackOff_deg[i]),
+                            steps_of_deg(i, kHomeSwitch_deg[i]),
+                            steps_of_deg(i, kHomingMaxTravel_deg[i]),
+                            steps_per_s(i, kHomingSlow_crad_s[i]) * kSwitchDelay_ms / 1000};
+}
+constexpr core::HomingConfig kHomingConfig[3] = {homing_config(0), homing_config(1), homing_config(2)};
+
+constexpr core::DcServoConfig dc_servo_config(uint8_t d) {
+  return core::DcServoConfig{
+      kDcUseRelay,
+      control::PidConfig{control::pid_gains(kDcKp[d], kDcKi_per_s[d], kDcKd_s[d], kLoopHz, kPositionUnitsPerCount).gains, 32767,
+                         (int16_t)(32767 / kDcRampTime_ms), permille_q15(kDcMinDuty_permille), permille_q15(kDcZeroBand_permille)},
+      control::RelayConfig{kRelayDeadZone_counts * kPositionUnitsPerCount, 0, permille_q15(kRelayDuty_permille)},
+      control::PlausibilityConfig{permille_q15(kStallDuty_permille), (uint16_t)kStallTime_ms,
+                                  (int32_t)kStallProgress_counts * kPositionUnitsPerCount, (uint16_t)kSignGrace_ms,
+                                  (int32_t)kSignDistance_counts * kPositionUnitsPerCount,
+                                  (int32_t)kMaxStep_counts_per_ms * kPositionUnitsPerCount,
+                                  (int32_t)kRailMargin_counts * kPositionUnitsPerCount,
+                                  (int32_t)(1023 - kRailMargin_counts) * kPositionUnitsPerCount, (uint8_t)kRailTime_ms},
+      (int32_t)kDcParkBand_counts * kPositionUnitsPerCount, (uint16_t)kDcParkTime_ms, (uint16_t)kDcUnparkTime_ms};
+}
+constexpr core::DcServoConfig kDcServoConfig[3] = {dc_servo_config(0), dc_servo_config(1), dc_servo_config(2)};
+
+// a lag of `mrad` in pot units, from the calibration's pot units over Angle counts (integers,
+// like PotMap::make; Q24 counts per mrad)
+constexpr uint64_t kAngleCountsPerMrad_q24 = (uint64_t)(core::kAngleCountsPerRad / 1000.0 * 16777216.0 + 0.5);
+WMRA_COLD int32_t lag_units(uint32_t units, uint32_t counts, int16_t mrad) {
+  return (int32_t)(((uint64_t)units * (uint16_t)mrad * kAngleCountsPerMrad_q24 / counts) >> 24);
+}
+
 WMRA_COLD void configure(Settings& settings) {
   constexpr control::JoystickConfig kStick{1023,
                                            kStickRailMargin_counts,
@@ -399,38 +446,20 @@ WMRA_COLD void configure(Settings& settings) {
   for (uint8_t i = 0; i < 3; ++i) {
     steppers::Command c(i);
     c.ramp().configure(kRampConfig[i]);
-    g_homing[i].configure(core::HomingConfig{kHomingDir[i], steps_per_s(i, kHomingFast_crad_s[i]),
-                                             steps_per_s(i, kHomingSlow_crad_s[i]), steps_of_deg(i, kHomingBackOff_deg[i]),
-                                             steps_of_deg(i, kHomeSwitch_deg[i]), steps_of_deg(i, kHomingMaxTravel_deg[i]),
-                                             steps_per_s(i, kHomingSlow_crad_s[i]) * kSwitchDelay_ms / 1000});
+    g_homing[i].configure(kHomingConfig[i]);
   }
 
   using L = kin::JointLimits<Fixed>;
   for (uint8_t d = 0; d < 3; ++d) {
     const uint8_t j = kDcJoint[d];
-    g_pot[d] = core::PotMap::make(L::min[j], L::max[j], settings.pot_at_min_counts_x16[d] / 16.0,
-                                  settings.pot_at_max_counts_x16[d] / 16.0);
-    const double units_per_rad = (settings.pot_at_max_counts_x16[d] - settings.pot_at_min_counts_x16[d]) /
-                                 (double)(L::max[j].raw - L::min[j].raw) * core::kAngleCountsPerRad;
-    g_lag_slow_units[d] = (int32_t)(kTrackingSlowFrom_mrad / 1000.0 * units_per_rad);
-    g_lag_stop_units[d] = (int32_t)(kTrackingStopAt_mrad / 1000.0 * units_per_rad);
-    g_lag_fault_units[d] = (int32_t)(kTrackingFault_mrad / 1000.0 * units_per_rad);
+    const int32_t at_min = settings.pot_at_min_counts_x16[d], at_max = settings.pot_at_max_counts_x16[d];
+    g_pot[d] = core::PotMap::make(L::min[j], L::max[j], at_min, at_max);
+    const uint32_t units = (uint32_t)(at_max - at_min), counts = (uint32_t)(L::max[j].raw - L::min[j].raw);
+    g_lag_slow_units[d] = lag_units(units, counts, kTrackingSlowFrom_mrad);
+    g_lag_stop_units[d] = lag_units(units, counts, kTrackingStopAt_mrad);
+    g_lag_fault_units[d] = lag_units(units, counts, kTrackingFault_mrad);
     g_lag_inverse[d] = (int16_t)(32767 / (g_lag_stop_units[d] - g_lag_slow_units[d]));
-
-    const control::PidGainsResult gains =
-        control::pid_gains(kDcKp[d], kDcKi_per_s[d], kDcKd_s[d], kLoopHz, kPositionUnitsPerCount);
-    const int16_t u = kPositionUnitsPerCount;
-    g_servo[d].configure(core::DcServoConfig{
-        kDcUseRelay,
-        control::PidConfig{gains.gains, 32767, (int16_t)(32767 / kDcRampTime_ms), permille_q15(kDcMinDuty_permille),
-                           permille_q15(kDcZeroBand_permille)},
-        control::RelayConfig{kRelayDeadZone_counts * u, 0, permille_q15(kRelayDuty_permille)},
-        control::PlausibilityConfig{permille_q15(kStallDuty_permille), (uint16_t)kStallTime_ms,
-                                    (int32_t)kStallProgress_counts * u, (uint16_t)kSignGrace_ms,
-                                    (int32_t)kSignDistance_counts * u, (int32_t)kMaxStep_counts_per_ms * u,
-                                    (int32_t)kRailMargin_counts * u, (int32_t)(1023 - kRailMargin_counts) * u,
-                                    (uint8_t)kRailTime_ms},
-        (int32_t)kDcParkBand_counts * u, (uint16_t)kDcParkTime_ms, (uint16_t)kDcUnparkTime_ms});
+    g_servo[d].configure(kDcServoConfig[d]);
   }
 }
 

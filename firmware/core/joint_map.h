@@ -38,6 +38,24 @@ constexpr Scale scale_for(double factor) {
   return m >= 32768 ? Scale{16384, (int8_t)(e + 1)} : Scale{(int16_t)m, e};
 }
 
+// The same Scale for num / den > 0 at run time (a calibration from EEPROM), in integers: float
+// arithmetic would link the AVR's float library for one boot-time computation.
+// num / den = f 2^e with f in [0.5, 1), m = round(f 2^15) = floor((n 2^16 + d) / (2 d)).
+inline Scale scale_for_ratio(uint32_t num, uint32_t den) {
+  int8_t e = 0;
+  uint64_t n = num, d = den;
+  while (n >= d) {
+    d <<= 1;
+    ++e;
+  }
+  while (2 * n < d) {
+    n <<= 1;
+    --e;
+  }
+  const uint64_t m = ((n << 16) + d) / (2 * d);
+  return m >= 32768 ? Scale{16384, (int8_t)(e + 1)} : Scale{(int16_t)m, e};
+}
+
 inline int32_t apply(Scale s, int32_t x) {
   const int32_t p = fx::mul_q15(x, s.m);
   return s.e >= 0 ? p << s.e : p >> -s.e;
@@ -99,10 +117,11 @@ struct PotMap {
   Scale units_per_angle;
   Scale angle_per_unit;
 
-  // from the ADC counts read at the joint's two limits (a calibration), count_max > count_min
-  static PotMap make(fx::Angle q_min, fx::Angle q_max, double count_at_min, double count_at_max) {
-    const double units_per_angle = (count_at_max - count_at_min) * 16.0 / (double)(q_max.raw - q_min.raw);
-    return PotMap{q_min, (int32_t)(count_at_min * 16.0 + 0.5), scale_for(units_per_angle), scale_for(1.0 / units_per_angle)};
+  // from the pot units (ADC counts x 16) read at the joint's two limits (a calibration),
+  // units_at_max > units_at_min, q_max > q_min
+  static PotMap make(fx::Angle q_min, fx::Angle q_max, int32_t units_at_min, int32_t units_at_max) {
+    const uint32_t units = (uint32_t)(units_at_max - units_at_min), counts = (uint32_t)(q_max.raw - q_min.raw);
+    return PotMap{q_min, units_at_min, scale_for_ratio(units, counts), scale_for_ratio(counts, units)};
   }
   int32_t units(fx::Angle a) const { return units_at_min + apply(units_per_angle, a.raw - q_min.raw); }
   fx::Angle angle(int32_t units) const { return fx::Angle{q_min.raw + apply(angle_per_unit, units - units_at_min)}; }

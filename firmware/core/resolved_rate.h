@@ -155,20 +155,19 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
   out.slowed_by = 0;
   fx::Unit s{(int16_t)fx::kUnitOne};
 
-  // 2. singular factors moving towards zero
-  const fx::Real qd23 = qd[1] + qd[2];
-  const fx::Real c5_rate = -(t.s5 * qd[4]);
-  const fx::Real s3_rate = fx::sincos(q.q[2]).c * qd[2];
-  const fx::Real r5_rate = -((t.s2 * kA2) * qd[1] + (t.s23 * kA3) * qd23 + (t.s234 * kA4) * (qd23 + qd[3]));
+  // 2. singular factors moving towards zero (each rate only inside its slow band: away from
+  // the singularities, most of the time, it is not needed)
   fx::Unit singular = s;
-  if (magnitude(f.c5) < kSlowC5 && moving_towards_zero(f.c5, c5_rate)) {
+  if (magnitude(f.c5) < kSlowC5 && moving_towards_zero(f.c5, -(t.s5 * qd[4]))) {
     singular = smaller(singular, singular_fraction<kDampC5, kSlowC5>(f.c5));
   }
-  if (magnitude(f.s3) < kSlowS3 && moving_towards_zero(f.s3, s3_rate)) {
+  if (magnitude(f.s3) < kSlowS3 && moving_towards_zero(f.s3, fx::sincos(q.q[2]).c * qd[2])) {
     singular = smaller(singular, singular_fraction<kDampS3, kSlowS3>(f.s3));
   }
-  if (magnitude(f.r5) < kSlowR5 && moving_towards_zero(f.r5, r5_rate)) {
-    singular = smaller(singular, singular_fraction<kDampR5, kSlowR5>(f.r5));
+  if (magnitude(f.r5) < kSlowR5) {
+    const fx::Real qd23 = qd[1] + qd[2];
+    const fx::Real r5_rate = -((t.s2 * kA2) * qd[1] + (t.s23 * kA3) * qd23 + (t.s234 * kA4) * (qd23 + qd[3]));
+    if (moving_towards_zero(f.r5, r5_rate)) singular = smaller(singular, singular_fraction<kDampR5, kSlowR5>(f.r5));
   }
   if (singular.raw < s.raw) {
     s = singular;
@@ -184,8 +183,11 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
         allowed = fraction(fx::Real{distance * kInvZone.raw}) * allowed;
       }
       if (distance < limits.brake_from[j]) {
-        const fx::Real brake{distance <= 0 ? 0 : (int32_t)fx::isqrt32((uint32_t)apply(limits.brake_speed_sq[j], distance)) << 13};
-        if (brake < allowed) allowed = brake;
+        // brake = floor(sqrt(v)) 2^13 is below allowed exactly when v < ceil(allowed / 2^13)^2:
+        // the square root (~300 cycles) only when it limits
+        const uint32_t v = distance <= 0 ? 0 : (uint32_t)apply(limits.brake_speed_sq[j], distance);
+        const uint16_t allowed_q10 = (uint16_t)((allowed.raw + 8191) >> 13);
+        if (v < (uint32_t)allowed_q10 * allowed_q10) allowed = fx::Real{(int32_t)fx::isqrt32(v) << 13};
       }
     }
     uint8_t reason = allowed < limits.joint_speed_rad_s[j] ? kSlowSoftLimit : kSlowJointSpeed;
