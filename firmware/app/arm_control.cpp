@@ -376,7 +376,7 @@ WMRA_SMALL void update_holding() {
   g_holding = core::holding_effort(kin::arm_trig<Fixed>(q));
 }
 
-void dc_tick() {
+void dc_tick(uint8_t ticks) {
   if (g_holding_ticks_left-- == 0) {
     g_holding_ticks_left = kHoldingPeriod_ticks - 1;
     update_holding();
@@ -388,7 +388,7 @@ void dc_tick() {
     const fx::Real qd = g_qd[kDcJoint[d]];
     const int32_t feedforward = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw);
     const int16_t feedforward_q15 = (int16_t)(feedforward > 32767 ? 32767 : feedforward < -32767 ? -32767 : feedforward);
-    bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15));
+    bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15, ticks));
   }
 }
 
@@ -492,7 +492,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   // --- checks
   for (uint8_t d = 0; d < 3; ++d) {
     g_dc_units[d] = (int32_t)adc[2 + d] * kPositionUnitsPerCount;
-    g_faults |= core::dc_joint_faults(d, g_servo[d].check(g_dc_units[d]));
+    g_faults |= core::dc_joint_faults(d, g_servo[d].check(g_dc_units[d], ticks));
   }
   if (inputs::take_switch_event()) g_faults |= core::fault_mask(core::kFaultBitLimitUnexpected);
 
@@ -555,7 +555,7 @@ void iterate(Requests& rq, uint8_t ticks) {
     default:
       break;
   }
-  if (g_supervisor.drives_enabled()) dc_tick();
+  if (g_supervisor.drives_enabled()) dc_tick(ticks);
 
   rq.stop = rq.rearm = rq.home = false;
   rq.goto_slot = -1;

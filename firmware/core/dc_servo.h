@@ -56,19 +56,23 @@ class DcServo {
   }
   void reset_checks(int32_t measured_units) { checks_.reset(measured_units); }
 
-  // The reading of this tick: runs the checks (on the duty applied since the last reading).
-  uint8_t check(int32_t measured_units) { return checks_.update(applied_, measured_units); }
+  // The reading of this tick: runs the checks (on the duty applied since the last reading, over
+  // `ticks` control ticks).
+  uint8_t check(int32_t measured_units, uint8_t ticks = 1) { return checks_.update(applied_, measured_units, ticks); }
 
   // The duty for the next tick. feedforward_q15: the effort the reference's speed needs; 0
   // (within the PID's zero band) for a standing reference. Not inlined: three copies unrolled
   // into the loop cost 3 KB of flash for a call's 50 cycles.
-  __attribute__((noinline)) int16_t update(int32_t reference_units, int32_t measured_units, int16_t feedforward_q15) {
+  // ticks: the control ticks since the last update (more than one: the loop overran); the PID
+  // and the park timers count time, not calls.
+  __attribute__((noinline)) int16_t update(int32_t reference_units, int32_t measured_units, int16_t feedforward_q15,
+                                           uint8_t ticks = 1) {
     const int32_t e = reference_units - measured_units;
     const uint32_t error = (uint32_t)(e < 0 ? -e : e);
     const bool still = feedforward_q15 < c_.pid.zero_band_q15 && -feedforward_q15 < c_.pid.zero_band_q15;
     const uint8_t direction = feedforward_q15 < 0 ? 1 : 0;
     if (parked_) {
-      out_of_band_ = error > 2 * (uint32_t)c_.park_units ? (uint16_t)(out_of_band_ + 1) : 0;
+      out_of_band_ = error > 2 * (uint32_t)c_.park_units ? (uint16_t)(out_of_band_ + ticks) : 0;
       if (!still || out_of_band_ >= c_.unpark_ticks) {
         parked_ = false;
         in_band_ = out_of_band_ = 0;
@@ -79,7 +83,7 @@ class DcServo {
         return 0;
       }
     }
-    in_band_ = still && error <= (uint32_t)c_.park_units ? (uint16_t)(in_band_ + 1) : 0;
+    in_band_ = still && error <= (uint32_t)c_.park_units ? (uint16_t)(in_band_ + ticks) : 0;
     if (in_band_ >= c_.park_ticks) {
       parked_ = true;
       pid_.start(reference_units, measured_units, 0);
@@ -87,7 +91,7 @@ class DcServo {
       return 0;
     }
     applied_ = c_.use_relay ? relay_.update(reference_units, measured_units)
-                            : pid_.update(reference_units, measured_units, feedforward_q15);
+                            : pid_.update(reference_units, measured_units, feedforward_q15, ticks);
     if (!still) holding_q15_[direction] = (int16_t)(pid_.integral_q23() >> 8);
     return applied_;
   }

@@ -109,20 +109,26 @@ class Pid {
   // that it need not build it up from the error again; the output still ramps at the rate limit.
   void preset_integral(int16_t effort_q15) { integral_q23_ = clamp_integral((int32_t)effort_q15 << 8); }
 
-  // One sample: the duty (Q15, signed) to apply.
-  int16_t update(int32_t setpoint, int32_t measurement, int16_t feedforward_q15 = 0) {
+  // One sample: the duty (Q15, signed) to apply. samples: how many sample periods passed since
+  // the last update (a caller that overran): the integral, the output's rate limit and the
+  // measurement's rate scale with it, so that the gains keep their meaning in time.
+  int16_t update(int32_t setpoint, int32_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
     if (!configured_) return 0;
     const int16_t e = saturate_i16(sub_saturated(setpoint, measurement));
-    const int16_t dm = saturate_i16(sub_saturated(measurement, m_prev_));
+    int16_t dm = saturate_i16(sub_saturated(measurement, m_prev_));
     m_prev_ = measurement;
+    if (samples == 2) dm = (int16_t)(dm >> 1);
+    else if (samples > 2) dm = (int16_t)(dm / (int16_t)samples);
     // P and D in Q19, each clamped far beyond full output (2^26 = 128 x full) before summing
     const int32_t p = clamp_i32(fx::mul_ss(e, c_.gains.kp_q4), -kTermLimit, kTermLimit);
     const int32_t d = clamp_i32(fx::mul_ss(dm, c_.gains.kd), -kTermLimit / 16, kTermLimit / 16) * 16;
     const int32_t pd = p - d + ((int32_t)feedforward_q15 << 4);
-    const int32_t di = fx::mul_ss(e, c_.gains.ki_q8);  // Q23
+    int32_t di = fx::mul_ss(e, c_.gains.ki_q8);  // Q23
+    if (samples > 1) di = clamp_integral(di) * samples;  // at most full output a sample: no overflow
     const int32_t limit = (int32_t)c_.out_max_q15 << 4;
-    const int32_t hi = clamp_i32(((int32_t)effort_ + c_.rate_q15) << 4, -limit, limit);
-    const int32_t lo = clamp_i32(((int32_t)effort_ - c_.rate_q15) << 4, -limit, limit);
+    const int32_t rate = (int32_t)c_.rate_q15 * samples;
+    const int32_t hi = clamp_i32(((int32_t)effort_ + rate) << 4, -limit, limit);
+    const int32_t lo = clamp_i32(((int32_t)effort_ - rate) << 4, -limit, limit);
     const int32_t trial = clamp_integral(integral_q23_ + di);
     const int32_t u_trial = pd + (trial >> 4);
     // conditional integration: hold the integral when it would push further into a limit

@@ -68,18 +68,19 @@ class PlausibilityMonitor {
     rail_count_ = 0;
   }
 
-  // One sample: the duty applied during the sample that ends now, and the reading. Returns
-  // the latched flags.
-  uint8_t update(int16_t duty_q15, int32_t position) {
+  // One sample: the duty applied during the sample that ends now, and the reading. samples:
+  // the sample periods it spans (a caller that overran): the counts advance by that many, and
+  // the joint may have moved that many steps. Returns the latched flags.
+  uint8_t update(int16_t duty_q15, int32_t position, uint8_t samples = 1) {
     if (!configured_) return faults_;
     if (position < c_.rail_low || position > c_.rail_high) {
-      if (rail_count_ < 255) ++rail_count_;
+      rail_count_ = rail_count_ > 255 - samples ? (uint8_t)255 : (uint8_t)(rail_count_ + samples);
       if (rail_count_ >= c_.rail_samples) faults_ |= kFaultRail;
       drive_dir_ = 0;  // restart the motion checks on good data
       return faults_;
     }
     rail_count_ = 0;
-    if (have_prev_ && magnitude_u32(sub_saturated(position, prev_)) > (uint32_t)c_.max_step) {
+    if (have_prev_ && magnitude_u32(sub_saturated(position, prev_)) > (uint32_t)c_.max_step * samples) {
       faults_ |= kFaultJump;
       prev_ = position;
       drive_dir_ = 0;
@@ -106,12 +107,12 @@ class PlausibilityMonitor {
     if (forward >= c_.stall_progress) {
       stall_anchor_ = position;
       stall_count_ = 0;
-    } else if (++stall_count_ >= c_.stall_samples) {
+    } else if ((stall_count_ = (uint16_t)(stall_count_ + samples)) >= c_.stall_samples) {
       faults_ |= kFaultStall;
       stall_count_ = c_.stall_samples;
     }
     if (grace_ > 0) {
-      --grace_;
+      grace_ = grace_ > samples ? (uint16_t)(grace_ - samples) : (uint16_t)0;
       peak_ = position;
     } else {
       const int32_t ahead = dir > 0 ? sub_saturated(position, peak_) : sub_saturated(peak_, position);

@@ -238,3 +238,28 @@ TEST(Pid, FeedforwardRemovesTheLagOfARamp) {
   EXPECT_LT(worst[1], worst[0] / 3);
   EXPECT_NEAR(end[1], 700, 0.5);
 }
+
+namespace {
+
+// An update that spans two sample periods (the caller overran) integrates twice as much, allows
+// twice the output's change and sees the measurement's change as over two periods: the same as
+// two updates with the same inputs, to within the derivative's rounding.
+TEST(Pid, AnUpdateOverTwoSamplesIsTwoSamples) {
+  PidConfig c = config();
+  c.rate_q15 = 300;  // the rate limit counts too
+  Pid once, twice;
+  ASSERT_EQ(once.configure(c), PidStatus::ok);
+  ASSERT_EQ(twice.configure(c), PidStatus::ok);
+  int32_t m = 0;
+  for (int k = 0; k < 200; ++k) {
+    const int32_t setpoint = 4000 + 20 * k;
+    m += 14;  // a joint moving steadily
+    int16_t a = 0;
+    for (int s = 0; s < 2; ++s) a = once.update(setpoint, m - 7 + 7 * s, 0);
+    const int16_t b = twice.update(setpoint, m, 0, 2);
+    ASSERT_NEAR(b, a, 64) << "after " << k << " double samples";
+    EXPECT_NEAR(twice.integral_q23(), once.integral_q23(), 64 * 256) << k;
+  }
+}
+
+}  // namespace

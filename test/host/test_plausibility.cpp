@@ -152,3 +152,25 @@ TEST(Plausibility, JumpAndRail) {
   bad.max_step = 0;
   EXPECT_EQ(plausibility_check(bad), PlausibilityStatus::invalid);
 }
+
+namespace {
+
+// Samples that span two periods (the caller overran): the stall window is a time, and the joint
+// may move twice the largest step before it counts as a jump.
+TEST(Plausibility, SamplesOverTwoPeriodsCountTwice) {
+  const PlausibilityConfig c = monitor_config();
+  PlausibilityMonitor m;
+  ASSERT_EQ(m.configure(c), PlausibilityStatus::ok);
+  m.reset(500 * kUnits);
+  ASSERT_EQ(m.update(0, 500 * kUnits), 0);
+  EXPECT_EQ(m.update(0, 500 * kUnits + 2 * c.max_step, 2), 0) << "twice the step over two periods";
+  EXPECT_EQ(m.update(0, 500 * kUnits + 5 * c.max_step, 2), kFaultJump) << "more than that is a jump";
+  PlausibilityMonitor stalled;
+  ASSERT_EQ(stalled.configure(c), PlausibilityStatus::ok);
+  stalled.reset(500 * kUnits);
+  int samples = 0;
+  while (!(stalled.update(32767, 500 * kUnits, 2) & kFaultStall) && samples < 1000) ++samples;
+  EXPECT_EQ(samples, c.stall_samples / 2) << "the stall window counts periods, not updates";
+}
+
+}  // namespace
