@@ -293,7 +293,7 @@ void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8
     twist = velocity_twist(rq);
   } else {
     twist = core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
-    if (mode == config::Mode::gripper) gripper_tick(stick.y_q15, ticks);
+    if (mode == config::Mode::gripper) gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
   }
   const fx::Unit factor = g_speed_scale * tracking_factor();
   twist.v_m_s = {factor * twist.v_m_s.x, factor * twist.v_m_s.y, factor * twist.v_m_s.z};

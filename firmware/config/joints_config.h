@@ -5,6 +5,7 @@
 
 #include <stdint.h>
 
+#include "kinematics/arm_model.h"
 #include "kinematics/ratio.h"
 
 namespace wmra {
@@ -42,6 +43,13 @@ constexpr int16_t kSwitchDelay_ms = 94;
 
 // The ready pose after homing (off the singular J5 = -90 deg), J1..J6, deg
 constexpr int16_t kReadyPose_deg[6] = {70, 20, -70, 50, -30, 0};
+constexpr bool ready_pose_inside_limits(int j) {
+  return j == 6 || (kReadyPose_deg[j] >= arm::q_min_deg[j] + 5 && kReadyPose_deg[j] <= arm::q_max_deg[j] - 5 &&
+                    ready_pose_inside_limits(j + 1));
+}
+static_assert(ready_pose_inside_limits(0), "the ready pose: every joint at least 5 deg inside its limits (SPEC 4)");
+static_assert(kReadyPose_deg[4] > -85 && kReadyPose_deg[4] < 85, "the ready pose is off the singular J5 = +-90 deg");
+static_assert(kReadyPose_deg[2] < -5 || kReadyPose_deg[2] > 5, "the ready pose is off the singular sin q3 = 0");
 // joint-space moves (to the ready pose, to a stored pose): this fraction of each joint's limit
 constexpr Ratio kJointMoveSpeed{1, 2};
 constexpr int16_t kArrivedTolerance_mdeg = 1000;  // DC joints; steppers arrive exactly
