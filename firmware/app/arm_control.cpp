@@ -238,6 +238,10 @@ fx::Unit tracking_factor() {
   return fx::Unit{(int16_t)(f > fx::kUnitOne ? fx::kUnitOne : f)};
 }
 
+// u x without the product (~60 cycles) for x = 0, which it gives exactly: most of a mode's
+// twist is zero (XY: v.z and w; R1: v)
+fx::Real scaled(fx::Unit u, fx::Real x) { return x.raw == 0 ? x : u * x; }
+
 fx::Real clamp_real(fx::Real r, int32_t limit) {
   return fx::Real{r.raw > limit ? limit : r.raw < -limit ? -limit : r.raw};
 }
@@ -263,7 +267,7 @@ void gripper_tick(int16_t stick_y_q15) {
   tick::set_servo_pulse_us((uint16_t)(g_gripper_us_q15 >> 15));
 }
 
-void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
+__attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
   const kin::ArmTrig<Fixed> trig = kin::arm_trig<Fixed>(q);
@@ -277,8 +281,8 @@ void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8
     if (mode == config::Mode::gripper) gripper_tick(stick.y_q15);
   }
   const fx::Unit factor = g_speed_scale * tracking_factor();
-  twist.v_m_s = {factor * twist.v_m_s.x, factor * twist.v_m_s.y, factor * twist.v_m_s.z};
-  twist.w_rad_s = {factor * twist.w_rad_s.x, factor * twist.w_rad_s.y, factor * twist.w_rad_s.z};
+  twist.v_m_s = {scaled(factor, twist.v_m_s.x), scaled(factor, twist.v_m_s.y), scaled(factor, twist.v_m_s.z)};
+  twist.w_rad_s = {scaled(factor, twist.w_rad_s.x), scaled(factor, twist.w_rad_s.y), scaled(factor, twist.w_rad_s.z)};
 
   // Drift correction: towards the integrated commanded position. The hand's position (FK,
   // ~1,000 cycles) every kDriftEvery_ticks only: the correction's time constant is
@@ -307,9 +311,9 @@ void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
   }
   const fx::Unit k = core::limit_joint_acceleration(g_qd, rates.qd_rad_s, ticks == 1 ? kMaxSpeedChangePerTick : max_change);
-  g_v_m_s.x = g_v_m_s.x + k * (rates.scale * twist.v_m_s.x - g_v_m_s.x);
-  g_v_m_s.y = g_v_m_s.y + k * (rates.scale * twist.v_m_s.y - g_v_m_s.y);
-  g_v_m_s.z = g_v_m_s.z + k * (rates.scale * twist.v_m_s.z - g_v_m_s.z);
+  g_v_m_s.x = g_v_m_s.x + scaled(k, scaled(rates.scale, twist.v_m_s.x) - g_v_m_s.x);
+  g_v_m_s.y = g_v_m_s.y + scaled(k, scaled(rates.scale, twist.v_m_s.y) - g_v_m_s.y);
+  g_v_m_s.z = g_v_m_s.z + scaled(k, scaled(rates.scale, twist.v_m_s.z) - g_v_m_s.z);
   constexpr core::Scale kPerTick = core::scale_for(1.0 / kLoopHz);
   for (uint8_t n = 0; n < ticks; ++n) {
     g_p_cmd.x.raw += core::apply(kPerTick, g_v_m_s.x.raw);
