@@ -40,8 +40,13 @@ using namespace config;
 // --- joints and their drives
 constexpr uint8_t kStepperJoint[3] = {0, 4, 5};  // J1, J5, J6: steppers::ramp(i)
 constexpr uint8_t kDcJoint[3] = {1, 2, 3};       // J2, J3, J4: bridges::set(d)
-constexpr uint8_t kAdcOrder[5] = {board::kAdcJoystickX, board::kAdcJoystickY, board::kAdcPotJ2, board::kAdcPotJ3,
-                                  board::kAdcPotJ4};
+// One sweep per tick (adc_scan.h), the pots twice: the loop reads their second conversions,
+// 0.6 to 0.8 ms into the sweep, so that the DC joints' feedback is as fresh as the free-running
+// scan's was (read at the next tick, 0.2 to 0.4 ms old); older readings made the DC joints catch
+// up their lag harder (S7: J3 1.06 rad/s against its 1.0 limit with one conversion each).
+constexpr uint8_t kAdcOrder[8] = {board::kAdcJoystickX, board::kAdcJoystickY, board::kAdcPotJ2, board::kAdcPotJ3,
+                                  board::kAdcPotJ4,      board::kAdcPotJ2,      board::kAdcPotJ3, board::kAdcPotJ4};
+constexpr uint8_t kAdcStickX = 0, kAdcStickY = 1, kAdcPot = 5;  // indices of the results used
 constexpr double kTwoPi = 2 * core::kPi;
 
 constexpr core::StepperMap kStepperMap[3] = {core::StepperMap::make(kStepsPerJointTurn[0]),
@@ -96,6 +101,7 @@ control::Button g_button;
 core::DcServo g_servo[3];
 core::PotMap g_pot[3];
 int32_t g_dc_units[3];  // measured, ADC counts x 16
+int32_t g_dc_reference_units[3];  // the references in pot units, as the last dc_tick drove them
 int32_t g_lag_slow_units[3], g_lag_stop_units[3], g_lag_fault_units[3];
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
@@ -105,6 +111,8 @@ core::HoldingEffort g_holding;  // the DC joints' holding effort at the referenc
 uint8_t g_holding_ticks_left;   // until it is computed again
 kin::Vec3<fx::Real> g_v_m_s;  // the hand's commanded velocity, as far as g_qd has reached it
 kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
+kin::Vec3<fx::Real> g_drift_m_s;  // the drift correction, held between its updates
+uint8_t g_drift_ticks;            // ticks since it was updated
 uint32_t g_faults;            // latched
 uint16_t g_ms;
 uint16_t g_overrun_ms;  // reported while > 0: long enough for telemetry to see one missed tick
@@ -144,6 +152,7 @@ WMRA_COLD void drives_on() {
   for (uint8_t d = 0; d < 3; ++d) {
     g_servo[d].rest(g_dc_units[d]);
     g_q[kDcJoint[d]].set(g_pot[d].angle(g_dc_units[d]));
+    g_dc_reference_units[d] = g_dc_units[d];
   }
   for (uint8_t i = 0; i < 3; ++i) g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::ramp(i).position_steps()));
   steppers::enable_drivers(true);
@@ -219,11 +228,14 @@ WMRA_COLD void homing_tick(uint16_t switches) {
 
 // --- resolved rate
 
-// how much the DC joints' lag allows: 1 up to the slow-down lag, 0 at the stop lag
+// how much the DC joints' lag allows: 1 up to the slow-down lag, 0 at the stop lag. The
+// references in pot units are the last dc_tick's (the references have not moved since; after
+// drives_on, where they were set to the measured angles, the measured units: the lag is then
+// the round trip's rounding, far below the slow-down lag), which saves three conversions.
 fx::Unit tracking_factor() {
   int32_t f = fx::kUnitOne;
   for (uint8_t d = 0; d < 3; ++d) {
-    int32_t lag = g_pot[d].units(g_q[kDcJoint[d]].angle) - g_dc_units[d];
+    int32_t lag = g_dc_reference_units[d] - g_dc_units[d];
     if (lag < 0) lag = -lag;
     if (lag <= g_lag_slow_units[d]) continue;
     const int32_t fd = lag >= g_lag_stop_units[d] ? 0 : (g_lag_stop_units[d] - lag) * g_lag_inverse[d];
@@ -232,25 +244,17 @@ fx::Unit tracking_factor() {
   return fx::Unit{(int16_t)(f > fx::kUnitOne ? fx::kUnitOne : f)};
 }
 
-// What each joint's drive can do now: a DC joint lifting its load has the duty beyond its
-// holding effort and the reserve; the steppers' ramps follow their speed limits.
-WMRA_SMALL const core::DriveSpeeds& drive_speeds() {
-  constexpr int16_t kUsable_q15 = permille_q15(1000 - kDcDutyReserve_permille);
-  static constexpr fx::Real kFullDutySpeed[3] = {fx::real(Ratio{kDcFullDutySpeed_crad_s[0], 100}),
-                                                 fx::real(Ratio{kDcFullDutySpeed_crad_s[1], 100}),
-                                                 fx::real(Ratio{kDcFullDutySpeed_crad_s[2], 100})};
-  static core::DriveSpeeds speeds = {{kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
-                                      kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]},
-                                     {kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
-                                      kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]}};
-  for (uint8_t d = 0; d < 3; ++d) {
-    const int16_t h = g_holding.duty_q15[d];
-    const int16_t up = (int16_t)(kUsable_q15 - (h > 0 ? h : 0)), down = (int16_t)(kUsable_q15 - (h < 0 ? -h : 0));
-    speeds.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * kFullDutySpeed[d];
-    speeds.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * kFullDutySpeed[d];
-  }
-  return speeds;
-}
+// What each joint's drive can do now (updated with the holding effort): a DC joint lifting its
+// load has the duty beyond its holding effort and the reserve; the steppers' ramps follow their
+// speed limits.
+core::DriveSpeeds g_drives = {{kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
+                               kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]},
+                              {kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
+                               kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]}};
+
+// u x without the product (~60 cycles) for x = 0, which it gives exactly: most of a mode's
+// twist is zero (XY: v.z and w; R1: v)
+fx::Real scaled(fx::Unit u, fx::Real x) { return x.raw == 0 ? x : u * x; }
 
 fx::Real clamp_real(fx::Real r, int32_t limit) {
   return fx::Real{r.raw > limit ? limit : r.raw < -limit ? -limit : r.raw};
@@ -282,7 +286,7 @@ void gripper_tick(int16_t stick_y_q15, uint8_t ticks) {
   tick::set_servo_pulse_us((uint16_t)(g_gripper_us_q15 >> 15));
 }
 
-void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
+__attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
   const kin::ArmTrig<Fixed> trig = kin::arm_trig<Fixed>(q);
@@ -296,25 +300,39 @@ void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8
     if (mode == config::Mode::gripper) gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
   }
   const fx::Unit factor = g_speed_scale * tracking_factor();
-  twist.v_m_s = {factor * twist.v_m_s.x, factor * twist.v_m_s.y, factor * twist.v_m_s.z};
-  twist.w_rad_s = {factor * twist.w_rad_s.x, factor * twist.w_rad_s.y, factor * twist.w_rad_s.z};
+  twist.v_m_s = {scaled(factor, twist.v_m_s.x), scaled(factor, twist.v_m_s.y), scaled(factor, twist.v_m_s.z)};
+  twist.w_rad_s = {scaled(factor, twist.w_rad_s.x), scaled(factor, twist.w_rad_s.y), scaled(factor, twist.w_rad_s.z)};
 
-  // drift correction: towards the integrated commanded position
+  // Drift correction: towards the integrated commanded position. The hand's position (FK,
+  // ~1,000 cycles) every kDriftEvery_ticks only: the correction's time constant is
+  // 1 / kDriftGain_per_s (200 ms), and the error it corrects (fixed-point rounding of the
+  // integrated references) grows over seconds; position and commanded position are sampled
+  // together, so the held correction has no lag term of its own.
+  constexpr uint8_t kDriftEvery_ticks = 4;
+  static_assert(kDriftEvery_ticks * kDriftGain_per_s <= 1000 / 20, "the correction updated 20 times per time constant");
   constexpr int32_t kMaxCorrection = (int32_t)(kDriftMaxCorrection_mm_s / 1000.0 * core::kRealPerRad);
-  const kin::Vec3<fx::Real> p = kin::hand_position<Fixed>(trig);
+  if (g_drift_ticks == 0) {
+    const kin::Vec3<fx::Real> p = kin::hand_position<Fixed>(trig);
+    g_drift_m_s = {clamp_real(fx::Real{(g_p_cmd.x - p.x).raw * kDriftGain_per_s}, kMaxCorrection),
+                   clamp_real(fx::Real{(g_p_cmd.y - p.y).raw * kDriftGain_per_s}, kMaxCorrection),
+                   clamp_real(fx::Real{(g_p_cmd.z - p.z).raw * kDriftGain_per_s}, kMaxCorrection)};
+  }
+  g_drift_ticks = (uint8_t)(g_drift_ticks + ticks >= kDriftEvery_ticks ? 0 : g_drift_ticks + ticks);
   kin::Twist<Fixed> corrected = twist;
-  corrected.v_m_s.x = twist.v_m_s.x + clamp_real(fx::Real{(g_p_cmd.x - p.x).raw * kDriftGain_per_s}, kMaxCorrection);
-  corrected.v_m_s.y = twist.v_m_s.y + clamp_real(fx::Real{(g_p_cmd.y - p.y).raw * kDriftGain_per_s}, kMaxCorrection);
-  corrected.v_m_s.z = twist.v_m_s.z + clamp_real(fx::Real{(g_p_cmd.z - p.z).raw * kDriftGain_per_s}, kMaxCorrection);
+  corrected.v_m_s.x = twist.v_m_s.x + g_drift_m_s.x;
+  corrected.v_m_s.y = twist.v_m_s.y + g_drift_m_s.y;
+  corrected.v_m_s.z = twist.v_m_s.z + g_drift_m_s.z;
 
-  const core::JointRates rates = core::resolved_rate(q, trig, corrected, kLimits, &drive_speeds());
+  const core::JointRates rates = core::resolved_rate(q, trig, corrected, kLimits, &g_drives);
   g_status.slowed_by = rates.slowed_by;
-  fx::Real max_change[6];
-  for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
-  const fx::Unit k = core::limit_joint_acceleration(g_qd, rates.qd_rad_s, max_change);
-  g_v_m_s.x = g_v_m_s.x + k * (rates.scale * twist.v_m_s.x - g_v_m_s.x);
-  g_v_m_s.y = g_v_m_s.y + k * (rates.scale * twist.v_m_s.y - g_v_m_s.y);
-  g_v_m_s.z = g_v_m_s.z + k * (rates.scale * twist.v_m_s.z - g_v_m_s.z);
+  fx::Real max_change[6];  // one tick's is the table (32-bit products otherwise)
+  if (ticks != 1) {
+    for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
+  }
+  const fx::Unit k = core::limit_joint_acceleration(g_qd, rates.qd_rad_s, ticks == 1 ? kMaxSpeedChangePerTick : max_change);
+  g_v_m_s.x = g_v_m_s.x + scaled(k, scaled(rates.scale, twist.v_m_s.x) - g_v_m_s.x);
+  g_v_m_s.y = g_v_m_s.y + scaled(k, scaled(rates.scale, twist.v_m_s.y) - g_v_m_s.y);
+  g_v_m_s.z = g_v_m_s.z + scaled(k, scaled(rates.scale, twist.v_m_s.z) - g_v_m_s.z);
   constexpr core::Scale kPerTick = core::scale_for(1.0 / kLoopHz);
   for (uint8_t n = 0; n < ticks; ++n) {
     g_p_cmd.x.raw += core::apply(kPerTick, g_v_m_s.x.raw);
@@ -339,6 +357,7 @@ WMRA_COLD void start_running() {
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
   g_p_cmd = kin::hand_position<Fixed>(kin::arm_trig<Fixed>(q));
+  g_drift_ticks = 0;
   g_v_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
   g_moving = false;
@@ -367,13 +386,24 @@ WMRA_COLD void enter(core::ArmState state) {
   }
 }
 
-// the load changes with the pose, slowly: at a joint's top speed the pose moves 16 mrad between updates
+// the load and with it the drives' speeds change with the pose, slowly: at a joint's top speed
+// the pose moves 16 mrad between updates
 constexpr uint8_t kHoldingPeriod_ticks = 8;
 
 WMRA_SMALL void update_holding() {
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
   g_holding = core::holding_effort(kin::arm_trig<Fixed>(q));
+  constexpr int16_t kUsable_q15 = permille_q15(1000 - kDcDutyReserve_permille);
+  static constexpr fx::Real kFullDutySpeed[3] = {fx::real(Ratio{kDcFullDutySpeed_crad_s[0], 100}),
+                                                 fx::real(Ratio{kDcFullDutySpeed_crad_s[1], 100}),
+                                                 fx::real(Ratio{kDcFullDutySpeed_crad_s[2], 100})};
+  for (uint8_t d = 0; d < 3; ++d) {
+    const int16_t h = g_holding.duty_q15[d];
+    const int16_t up = (int16_t)(kUsable_q15 - (h > 0 ? h : 0)), down = (int16_t)(kUsable_q15 - (h < 0 ? -h : 0));
+    g_drives.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * kFullDutySpeed[d];
+    g_drives.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * kFullDutySpeed[d];
+  }
 }
 
 void dc_tick(uint8_t ticks) {
@@ -383,6 +413,7 @@ void dc_tick(uint8_t ticks) {
   }
   for (uint8_t d = 0; d < 3; ++d) {
     const int32_t reference = g_pot[d].units(g_q[kDcJoint[d]].angle);
+    g_dc_reference_units[d] = reference;
     const int32_t lag = reference - g_dc_units[d];
     if (lag > g_lag_fault_units[d] || lag < -g_lag_fault_units[d]) g_faults |= core::fault_mask(core::kFaultBitTracking);
     const fx::Real qd = g_qd[kDcJoint[d]];
@@ -479,20 +510,21 @@ void stop_from_interrupt() {
 
 void iterate(Requests& rq, uint8_t ticks) {
   // --- inputs
-  uint16_t adc[5];
+  uint16_t adc[sizeof kAdcOrder];
   adc::snapshot(adc);
   const uint16_t switches = inputs::closed_switches();
   const bool safety = inputs::take_safety_event() | inputs::safety_pressed();
   g_ms = (uint16_t)(g_ms + ticks);
   if (ticks > 1) g_overrun_ms = kOverrunReport_ms;
   else if (g_overrun_ms > 0) --g_overrun_ms;
-  const control::JoystickOutput stick = g_stick.update(adc[0], adc[1], ticks);
+  const control::JoystickOutput stick = g_stick.update(adc[kAdcStickX], adc[kAdcStickY], ticks);
   const control::ButtonEvent button = g_button.update(inputs::joystick_button_down(), g_ms);
 
   // --- checks
   for (uint8_t d = 0; d < 3; ++d) {
-    g_dc_units[d] = (int32_t)adc[2 + d] * kPositionUnitsPerCount;
-    g_faults |= core::dc_joint_faults(d, g_servo[d].check(g_dc_units[d], ticks));
+    g_dc_units[d] = (int32_t)adc[kAdcPot + d] * kPositionUnitsPerCount;
+    const uint8_t flags = g_servo[d].check(g_dc_units[d], ticks);
+    if (flags) g_faults |= core::dc_joint_faults(d, flags);  // a 32-bit shift by a run-time count is a loop
   }
   if (inputs::take_switch_event()) g_faults |= core::fault_mask(core::kFaultBitLimitUnexpected);
 

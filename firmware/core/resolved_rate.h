@@ -126,10 +126,11 @@ fx::Unit singular_fraction(fx::Unit f) {
 
 // the largest s in [0, 1] with s |qd| <= allowed, given the current s. The quotient is
 // rounded down by two steps, more than the error of the table reciprocal and of the
-// product, so the limit holds exactly rather than to within rounding.
+// product, so the limit holds exactly rather than to within rounding. s |qd| never exceeds
+// |qd| (s < 1, the product rounds down), so a speed within the limit needs no product.
 inline fx::Unit limit_scale(fx::Unit s, fx::Real qd, fx::Real allowed) {
   const fx::Real speed{qd.raw < 0 ? -qd.raw : qd.raw};
-  if (speed.raw == 0 || !(allowed < s * speed)) return s;
+  if (!(allowed < speed) || !(allowed < s * speed)) return s;
   const fx::Unit quotient = fraction(allowed * fx::reciprocal(speed));
   return fx::Unit{(int16_t)(quotient.raw > 2 ? quotient.raw - 2 : 0)};
 }

@@ -37,13 +37,15 @@ kin::Twist<kin::Fixed> stick_twist(config::Mode mode, Stick stick, const Trig& t
       break;
     case config::Mode::r1:
     case config::Mode::r2: {
-      const auto axes = kin::wrist_axes<kin::Fixed>(t);
-      // (about a) * ka + (about b) * kb, with ka, kb the stick components in rad/s
+      // (about a) * ka + (about b) * kb, with ka, kb the stick components in rad/s, summed in
+      // the frame turned by q1 and then turned into the base frame (one rotation, not two)
+      const auto axes = kin::wrist_axes_turned<kin::Fixed>(t);
       const auto& a = mode == config::Mode::r1 ? axes.y5 : axes.x5;
       const auto& b = mode == config::Mode::r1 ? axes.z5 : axes.y5;
       const fx::Real ka = (mode == config::Mode::r1 ? sx : sy) * kWrist;
       const fx::Real kb = (mode == config::Mode::r1 ? sy : sx) * kWrist;
-      twist.w_rad_s = {a.x * ka + b.x * kb, a.y * ka + b.y * kb, a.z * ka + b.z * kb};
+      const fx::Real wx = fx::dot(a.x, ka, b.x, kb), wy = fx::dot(a.y, ka, b.y, kb);
+      twist.w_rad_s = {fx::dot(t.c1, wx, -t.s1, wy), fx::dot(t.s1, wx, t.c1, wy), fx::dot(a.z, ka, b.z, kb)};
       break;
     }
     case config::Mode::gripper:

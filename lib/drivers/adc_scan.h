@@ -1,11 +1,10 @@
 // Scan of the analog inputs, one sweep per control tick: snapshot() hands the loop the last
 // sweep's results and starts the next sweep, whose conversions the ADC interrupt chains
 // (store, next channel) and stops after the last channel, so the loop never waits on a
-// conversion. At a 125 kHz ADC clock a conversion takes 104 us: five channels are converted
-// within 520 us of the snapshot, well before the next tick reads them. Why not free-running:
-// converting all the time (~9 kHz) cost ~1,100 cycles of interrupts per 1 ms tick for results
-// that the loop never read; one sweep costs five interrupts. Each reading is one conversion,
-// as before, so the pots' noise is the same; they are at most ~1 ms old when read.
+// conversion. At a 125 kHz ADC clock a conversion takes 104 us: up to eight channels (a channel
+// may be listed twice, converted twice) are converted within 832 us of the snapshot, before
+// the next tick reads them. Why not free-running: converting all the time (~9 kHz) cost ~1,100
+// cycles of interrupts per 1 ms tick, for results the loop never read.
 #pragma once
 
 #include <stdint.h>

@@ -4,6 +4,7 @@
 #include <avr/io.h>
 
 #include "drivers/pins.h"
+#include "kinematics/fixed_point.h"
 #include "wmra_mega/board.h"
 
 namespace wmra {
@@ -28,7 +29,8 @@ constexpr uint8_t kComNonInverting = 2;
 // lookup in the pin tables costs ~250 cycles a call).
 __attribute__((always_inline)) inline void side(ComparePin p, uint16_t duty_q15) {
   const uint16_t top = eight_bit(p) ? kTop8 : kTop16;
-  const uint16_t ocr = (uint16_t)(((uint32_t)duty_q15 * (top + 1u)) >> 15);
+  // duty (top + 1) / 2^15 as the high half of duty 2 (top + 1): one 16 x 16 product
+  const uint16_t ocr = fx::hi16(fx::mul_uu(duty_q15, (uint16_t)(2u * (top + 1u))));
   if (ocr == 0) {
     pins::set_com(p, 0);
     return;

@@ -17,17 +17,25 @@ struct WristAxes {
 };
 
 template <class N, class Trig>
-Vec3<typename N::Unit> turned_by_q1(const Trig& t, typename N::Unit x, typename N::Unit y, typename N::Unit z) {
-  return Vec3<typename N::Unit>{t.c1 * x - t.s1 * y, t.s1 * x + t.c1 * y, z};
+Vec3<typename N::Unit> turned_by_q1(const Trig& t, const Vec3<typename N::Unit>& v) {
+  return Vec3<typename N::Unit>{t.c1 * v.x - t.s1 * v.y, t.s1 * v.x + t.c1 * v.y, v.z};
+}
+
+// the axes in the frame turned by q1: a combination of them (the rotation modes' angular
+// velocity) can then be turned into the base frame once, rather than each axis
+template <class N, class Trig>
+WristAxes<N> wrist_axes_turned(const Trig& t) {
+  WristAxes<N> a;
+  a.x5 = {t.s5 * t.c234, t.c5, t.s5 * t.s234};
+  a.y5 = {t.c234 * t.c5, -t.s5, t.s234 * t.c5};
+  a.z5 = {t.s234, typename N::Unit{}, -t.c234};
+  return a;
 }
 
 template <class N, class Trig>
 WristAxes<N> wrist_axes(const Trig& t) {
-  WristAxes<N> a;
-  a.x5 = turned_by_q1<N>(t, t.s5 * t.c234, t.c5, t.s5 * t.s234);
-  a.y5 = turned_by_q1<N>(t, t.c234 * t.c5, -t.s5, t.s234 * t.c5);
-  a.z5 = turned_by_q1<N>(t, t.s234, typename N::Unit{}, -t.c234);
-  return a;
+  const WristAxes<N> turned = wrist_axes_turned<N>(t);
+  return WristAxes<N>{turned_by_q1<N>(t, turned.x5), turned_by_q1<N>(t, turned.y5), turned_by_q1<N>(t, turned.z5)};
 }
 
 }  // namespace kin

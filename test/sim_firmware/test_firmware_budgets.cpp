@@ -7,6 +7,9 @@
 #include <map>
 #include <string>
 
+#include "armsim/firmware_telemetry.h"
+#include "config/modes_config.h"
+#include "core/supervisor.h"
 #include "firmware_rig.h"
 #include "plant/arm_plant_config.h"
 #include "wiring/arm_simulator.h"
@@ -95,6 +98,87 @@ TEST(FirmwareBudgets, EveryIsrWithinItsWorstCase) {
     }
     EXPECT_LE(kv.second.max_cycles, budget->second) << kv.first;
   }
+}
+
+// SPEC 8: one control iteration (D49 high, the ISRs that land in it included) within 8,000
+// cycles, mean and worst, while the stick drives the arm, so that the loop runs at 1 kHz with
+// room for the step ISRs and the serial link. NOT MET YET: the budgets are what the loop does
+// today (measured by the run below, in brackets, rounded up ~5 %), so that growth shows; lower
+// them as it gets faster. Where the cycles go (scripts/profile-firmware, per iteration with the
+// stick in XY, XZ, R1): the arm's motion ~6,900 (references, acceleration limit, stepper
+// speeds), resolved rate ~2,800, J^-1 ~2,500, the DC servos ~2,500, inputs and checks ~3,300,
+// the step ISRs and ramp ~1,500 (~3,600 in R1, where J5 and J6 step fast: the worst case).
+// The worst case moves by up to 10 % with any change of the loop's timing (how the step ISRs
+// fall into the iteration: 42,500 to 49,500 over the builds of one session), hence its margin.
+// The DC joints' gravity model and load-aware speed limits, and servos that count ticks, added
+// ~2,300 cycles a mean iteration.
+constexpr uint64_t kIterationTarget_cycles = 8000;
+constexpr double kIterationMeanBudget_cycles = 29000;   // [27,822]
+constexpr uint64_t kIterationMaxBudget_cycles = 54000;  // [49,492]
+
+// The stick deflected in XY, XZ and R1 after start-up; every iteration that ends while the
+// stick is deflected counts. The simulator keeps D49's running sums, so each iteration is read
+// off as their change over a window shorter than the shortest iteration's spacing; a window
+// with two iterations in it (the loop catching up after an overrun) counts as one as long as
+// both, which only overstates the worst case.
+struct IterationRun {
+  sim::CycleStats deflected;  // per iteration while deflected
+  int frames[3] = {0, 0, 0};          // telemetry's state frames while deflected in each mode
+  int frames_in_mode[3] = {0, 0, 0};  // of them, running in the mode meant
+  IterationRun() {
+    sim::ArmSimulator sim(config(kFirmware));
+    bool measuring = false;
+    sim::CycleStats last;
+    sim.every(100e-6, [&](const sim::ArmSimulator& s) {
+      const sim::CycleStats now = s.measurements().loop_high;
+      if (measuring && now.count > last.count) deflected.add(now.sum - last.sum);
+      if (measuring && now.count > last.count + 1) deflected.count += now.count - last.count - 1;
+      last = now;
+    });
+    const struct {
+      config::Mode mode;
+      double x, y;
+    } kModes[3] = {{config::Mode::xy, 1, 0}, {config::Mode::xz, 0, 1}, {config::Mode::r1, 0.7, 0.7}};
+    double t = 6.0, from_s[3];
+    sim.run_until(t);
+    for (int k = 0; k < 3; ++k) {
+      sim.set_joystick(kModes[k].x, kModes[k].y);
+      measuring = true;
+      from_s[k] = t;
+      sim.run_until(t += 1.0);
+      measuring = false;
+      sim.set_joystick(0, 0);
+      sim.run_until(t += 0.4);
+      sim.set_button(true);  // short press: the next mode
+      sim.run_until(t += 0.1);
+      sim.set_button(false);
+      sim.run_until(t += 0.2);
+    }
+    EXPECT_TRUE(sim.measurements().sim_faults.empty());
+    armsim::FirmwareTelemetry telemetry;
+    for (uint8_t b : sim.uart_output()) telemetry.feed(b);
+    for (const protocol::StateMsg& f : telemetry.states()) {
+      for (int k = 0; k < 3; ++k) {
+        if (f.t_ms < from_s[k] * 1000 || f.t_ms > (from_s[k] + 1.0) * 1000) continue;
+        ++frames[k];
+        frames_in_mode[k] += f.state == (uint8_t)core::ArmState::running && f.mode == (uint8_t)kModes[k].mode;
+      }
+    }
+  }
+};
+
+TEST(FirmwareBudgets, ControlIterationWhileTheStickDrives) {
+  static const IterationRun run;
+  const sim::CycleStats& it = run.deflected;
+  std::printf("iteration with the stick deflected (XY, XZ, R1): mean %.0f, max %llu cycles over %llu iterations (SPEC 8: %llu)\n",
+              it.mean(), (unsigned long long)it.max, (unsigned long long)it.count, (unsigned long long)kIterationTarget_cycles);
+  ASSERT_GT(it.count, 1500u) << "three seconds of the stick deflected, at least at half the 1 kHz";
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_GT(run.frames[k], 10);
+    EXPECT_EQ(run.frames_in_mode[k], run.frames[k]) << "running in XY, XZ, R1 in turn: mode " << k;
+  }
+  EXPECT_LE(it.mean(), kIterationMeanBudget_cycles);
+  EXPECT_LE(it.max, kIterationMaxBudget_cycles);
 }
 
 // Three steppers at 20 kHz at once with the loop running: every step the ramps counted reaches
