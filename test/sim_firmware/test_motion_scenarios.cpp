@@ -81,10 +81,11 @@ void expect_straight_line(const ScenarioRun& r, double t0, int axis) {
   ::testing::Test::RecordProperty("turned_deg", std::to_string(turned_deg));
 }
 
-// Not met yet (DISABLED_, see README): S1 moves at 0.094 m/s, 23.6 mm off the axis, turned
-// 3.2 deg; S2 at 0.146 m/s, 5.5 mm, 2.5 deg; S3 in R2 turns at 0.43 rad/s with the origin moving
-// 50 mm. The DC joints (J2 to J4) lag their references at speed (J3, lifting the forearm and the
-// payload, needs ~70 % duty before it moves), which moves the hand off the line and slows it.
+// Not met yet (DISABLED_, see README): S1 moves at 0.147 m/s, 20.3 mm off the axis, turned
+// 1.8 deg; S2 at 0.158 m/s, 2.9 mm, 1.24 deg; S3 in R2 turns at 0.52 rad/s with the origin moving
+// 30.9 mm. The DC joints (J2 to J4) lag their references at speed (10-80 mrad; their pots resolve
+// 3.4-6 mrad a count), which moves the hand off the line; the figures move by millimetres with
+// any change of the loop's timing.
 TEST(FirmwareMotion, DISABLED_S1FullStickInXYMovesTheHandAlongX) {
   ScenarioRun r;
   run("6.0 joystick 1 0\n8.0 joystick 0 0\n9.0 end\n", r);
