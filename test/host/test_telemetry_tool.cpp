@@ -232,6 +232,9 @@ TEST(WmraTelemetryCli, BadInputExitsWithTwo) {
       "listen /dev/ttyUSB0 --send",
       "listen /dev/ttyUSB0 --send a5f",
       "listen /dev/ttyUSB0 --send zz",
+      "listen /dev/ttyUSB0 --send a5 --every 5",
+      "listen /dev/ttyUSB0 --send a5 --each 50",
+      "listen /dev/ttyUSB0 --every 50",
   };
   for (const char* args : bad) {
     const CliRun r = cli(args);
@@ -255,39 +258,72 @@ TEST(WmraTelemetryCli, UnopenableInputExitsWithThree) {
 
 // listen on a pseudo-terminal: the port is set up, frames are decoded as they come, --send
 // goes out once the first frame has arrived, and Ctrl-C ends it with the summary
-TEST(WmraTelemetryCli, ListenOnAPseudoTerminal) {
-  const int master = posix_openpt(O_RDWR | O_NOCTTY);
-  ASSERT_GE(master, 0);
-  ASSERT_EQ(grantpt(master), 0);
-  ASSERT_EQ(unlockpt(master), 0);
-  const std::string port = ptsname(master);
-  const std::string out_path = kOut + "/listen.out", err_path = kOut + "/listen.err";
-  posix_spawn_file_actions_t files;
-  posix_spawn_file_actions_init(&files);
-  posix_spawn_file_actions_addopen(&files, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_addopen(&files, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  const std::string command = frame_hex_of(frame_bytes((uint8_t)MsgType::cmd_stop, 9, {}));
-  std::vector<std::string> args = {TELEMETRY_BIN, "listen", port, "--send", command};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(&a[0]);
-  argv.push_back(nullptr);
-  pid_t pid;
-  ASSERT_EQ(posix_spawn(&pid, TELEMETRY_BIN, &files, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&files);
-
-  // boot frames until the command comes back: the first ones may go before the port is open
-  const auto boot = message_bytes(BootMsg{1, 0}, 0);
-  std::string received;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (received.find(command) == std::string::npos && std::chrono::steady_clock::now() < deadline) {
-    ASSERT_EQ(write(master, boot.data(), boot.size()), (ssize_t)boot.size());
-    pollfd p{master, POLLIN, 0};
-    if (poll(&p, 1, 50) == 1) {
-      uint8_t buf[256];
-      const ssize_t n = read(master, buf, sizeof buf);
-      if (n > 0) received += frame_hex_of(std::vector<uint8_t>(buf, buf + n));
-    }
+// wmra-telemetry listen on a pseudo-terminal (the test holds its master side), stdout and
+// stderr into kOut/NAME.out and .err
+struct Listener {
+  int master = -1;
+  pid_t pid = 0;
+  std::string out_path, err_path;
+  Listener(const std::string& name, std::vector<std::string> options) {
+    master = posix_openpt(O_RDWR | O_NOCTTY);
+    if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0) return;
+    out_path = kOut + "/" + name + ".out";
+    err_path = kOut + "/" + name + ".err";
+    posix_spawn_file_actions_t files;
+    posix_spawn_file_actions_init(&files);
+    posix_spawn_file_actions_addopen(&files, 1, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&files, 2, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    std::vector<std::string> args = {TELEMETRY_BIN, "listen", ptsname(master)};
+    args.insert(args.end(), options.begin(), options.end());
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(&a[0]);
+    argv.push_back(nullptr);
+    if (posix_spawn(&pid, TELEMETRY_BIN, &files, nullptr, argv.data(), environ) != 0) pid = 0;
+    posix_spawn_file_actions_destroy(&files);
   }
+  // what the tool wrote to the port within ms milliseconds, as hex
+  std::string read_for(int ms) {
+    std::string received;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(ms);
+    while (std::chrono::steady_clock::now() < end) {
+      pollfd p{master, POLLIN, 0};
+      if (poll(&p, 1, 10) == 1) {
+        uint8_t buf[256];
+        const ssize_t n = read(master, buf, sizeof buf);
+        if (n > 0) received += frame_hex_of(std::vector<uint8_t>(buf, buf + n));
+      }
+    }
+    return received;
+  }
+  // boot frames until `command` comes back: the first ones may go before the port is open
+  std::string boot_until(const std::string& command) {
+    const auto boot = message_bytes(BootMsg{1, 0}, 0);
+    std::string received;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (received.find(command) == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+      if (write(master, boot.data(), boot.size()) != (ssize_t)boot.size()) break;
+      received += read_for(50);
+    }
+    return received;
+  }
+  int stop() {
+    kill(pid, SIGINT);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    close(master);
+    return status;
+  }
+};
+
+TEST(WmraTelemetryCli, ListenOnAPseudoTerminal) {
+  const std::string command = frame_hex_of(frame_bytes((uint8_t)MsgType::cmd_stop, 9, {}));
+  Listener listen("listen", {"--send", command});
+  ASSERT_GE(listen.master, 0);
+  ASSERT_NE(listen.pid, 0);
+  const int master = listen.master;
+  const std::string out_path = listen.out_path, err_path = listen.err_path;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  const std::string received = listen.boot_until(command);
   EXPECT_NE(received.find(command), std::string::npos) << received;
   const auto reply = message_bytes(ReplyMsg{(uint8_t)MsgType::cmd_stop, 9, 0}, 1);
   ASSERT_EQ(write(master, reply.data(), reply.size()), (ssize_t)reply.size());
@@ -299,10 +335,7 @@ TEST(WmraTelemetryCli, ListenOnAPseudoTerminal) {
     ss << f.rdbuf();
     out = ss.str();
   }
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  close(master);
+  const int status = listen.stop();
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
   EXPECT_NE(out.find("{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\"],\"calibration\":\"eeprom\"}\n"),
             std::string::npos)
@@ -316,3 +349,26 @@ TEST(WmraTelemetryCli, ListenOnAPseudoTerminal) {
   EXPECT_NE(err.str().find("wmra-telemetry: frames "), std::string::npos) << err.str();
   EXPECT_NE(err.str().find(", seq gaps 0\n"), std::string::npos) << err.str();
 }
+
+namespace {
+
+// --every: the command again every interval after the first frame (a velocity stream, which
+// the firmware drops 100 ms after the last command): over 500 ms at 50 ms, about ten copies.
+TEST(WmraTelemetryCli, ListenRepeatsTheCommandEveryInterval) {
+  const std::string command =
+      frame_hex_of(message_bytes(VelocityCmd{{50, 0, 0}, {0, 0, 0}}, 3));
+  Listener listen("listen_every", {"--send", command, "--every", "50"});
+  ASSERT_GE(listen.master, 0);
+  ASSERT_NE(listen.pid, 0);
+  ASSERT_NE(listen.boot_until(command).find(command), std::string::npos);
+  const std::string received = listen.read_for(500);
+  size_t copies = 0;
+  for (size_t at = received.find(command); at != std::string::npos; at = received.find(command, at + 1)) ++copies;
+  std::printf("listen --every 50: %zu copies in 500 ms\n", copies);
+  EXPECT_GE(copies, 4u);  // a loaded machine may stretch the intervals, never shorten them
+  EXPECT_LE(copies, 11u);
+  const int status = listen.stop();
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
+}
+
+}  // namespace

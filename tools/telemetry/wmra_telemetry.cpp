@@ -5,8 +5,11 @@
 //                                             a command frame as lowercase hex (armsim's "serial HEX")
 //       stop | rearm | home | mode xy|xz|r1|r2|gripper | speed PCT | goto SLOT | store SLOT
 //       | velocity VX VY VZ WX WY WZ          (m/s and rad/s, base frame)
-//   wmra-telemetry listen DEVICE [--send HEX] a serial port at 115200 8N1, decoded live until Ctrl-C;
-//                                             HEX is sent once the firmware's first frame has arrived
+//   wmra-telemetry listen DEVICE [--send HEX [--every MS]]
+//                                             a serial port at 115200 8N1, decoded live until Ctrl-C;
+//                                             HEX is sent once the firmware's first frame has arrived,
+//                                             and again every MS milliseconds with --every (a velocity
+//                                             stream: the firmware stops 100 ms after the last one)
 //
 // decode and listen end with a summary line on stderr (frames, errors, seq gaps).
 // Exit status: 0 done; 2 a bad command line (the message says what); 3 a file or port that
@@ -22,6 +25,7 @@
 #include <vector>
 
 #include <fcntl.h>
+#include <poll.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -44,7 +48,7 @@ const char kUsage[] =
     "       wmra-telemetry encode COMMAND [ARG...] [--seq N]\n"
     "         COMMAND: stop | rearm | home | mode xy|xz|r1|r2|gripper | speed PCT | goto SLOT | store SLOT\n"
     "                  | velocity VX VY VZ WX WY WZ   (m/s, rad/s, base frame)\n"
-    "       wmra-telemetry listen DEVICE [--send HEX]\n";
+    "       wmra-telemetry listen DEVICE [--send HEX [--every MS]]\n";
 
 // a whole number in [lo, hi]
 long parse_int(const std::string& word, long lo, long hi, const std::string& what) {
@@ -137,13 +141,31 @@ std::string encode(const std::vector<std::string>& words, uint8_t seq) {
 }
 
 // Decodes bytes from fd to stdout until the end of input (or a signal); sends `send` once
-// the first frame has arrived. Returns the stream, for the summary.
+// the first frame has arrived, and then every every_ms if that is not 0. Returns the stream, for
+// the summary.
 volatile std::sig_atomic_t g_stop = 0;
 
-telemetry::FrameStream decode_fd(int fd, std::vector<uint8_t> send) {
+telemetry::FrameStream decode_fd(int fd, const std::vector<uint8_t>& send, int every_ms) {
   telemetry::FrameStream stream;
   uint8_t buf[4096];
+  bool sent = false;
+  auto send_now = [&] {
+    if (write(fd, send.data(), send.size()) != (ssize_t)send.size()) {
+      throw IoError{std::string("write: ") + std::strerror(errno)};
+    }
+    sent = true;
+  };
   while (!g_stop) {
+    if (sent && every_ms > 0) {
+      pollfd p{fd, POLLIN, 0};
+      const int ready = poll(&p, 1, every_ms);
+      if (ready < 0 && errno != EINTR) throw IoError{std::string("poll: ") + std::strerror(errno)};
+      if (ready == 0) {
+        send_now();
+        continue;
+      }
+      if (ready < 0) continue;
+    }
     const ssize_t n = read(fd, buf, sizeof buf);
     if (n == 0) break;
     if (n < 0) {
@@ -153,12 +175,7 @@ telemetry::FrameStream decode_fd(int fd, std::vector<uint8_t> send) {
     for (ssize_t i = 0; i < n; ++i) {
       if (!stream.feed(buf[i])) continue;
       std::printf("%s\n", telemetry::to_json(stream.frame()).c_str());
-      if (!send.empty()) {
-        if (write(fd, send.data(), send.size()) != (ssize_t)send.size()) {
-          throw IoError{std::string("write: ") + std::strerror(errno)};
-        }
-        send.clear();
-      }
+      if (!send.empty() && !sent) send_now();
     }
     std::fflush(stdout);
   }
@@ -204,15 +221,20 @@ int run(const std::vector<std::string>& args) {
   }
   int fd = -1;
   std::vector<uint8_t> send;
+  int every_ms = 0;
   if (what == "decode") {
     if (args.size() > 2) throw BadInput{"decode takes at most one FILE"};
     fd = args.size() == 2 ? open(args[1].c_str(), O_RDONLY) : STDIN_FILENO;
     if (fd < 0) throw IoError{args[1] + ": " + std::strerror(errno)};
   } else if (what == "listen") {
-    if (args.size() == 4 && args[2] == "--send") {
+    if ((args.size() == 4 || args.size() == 6) && args[2] == "--send") {
       send = parse_hex(args[3]);
+      if (args.size() == 6) {
+        if (args[4] != "--every") throw BadInput{"listen takes DEVICE [--send HEX [--every MS]]"};
+        every_ms = (int)parse_int(args[5], 10, 60000, "--every (ms)");
+      }
     } else if (args.size() != 2) {
-      throw BadInput{"listen takes DEVICE [--send HEX]"};
+      throw BadInput{"listen takes DEVICE [--send HEX [--every MS]]"};
     }
     fd = open_serial(args[1]);
     struct sigaction sa = {};
@@ -222,7 +244,7 @@ int run(const std::vector<std::string>& args) {
   } else {
     throw BadInput{"unknown command '" + what + "'"};
   }
-  const telemetry::FrameStream stream = decode_fd(fd, send);
+  const telemetry::FrameStream stream = decode_fd(fd, send, every_ms);
   std::fprintf(stderr, "wmra-telemetry: %s\n", stream.summary().c_str());
   return 0;
 }
