@@ -34,10 +34,9 @@ inline int32_t sub_saturated(int32_t a, int32_t b) {
   return s;
 }
 
-// a * n modulo 2^32 (exact when it fits int32), from two hardware 16x16 products: avr-gcc
-// calls its 32x32 library routine for int32 * uint8. A constant n is left to the compiler.
+// a * n for a product that fits int32 (modulo 2^32 otherwise), from two hardware 16x16
+// products: avr-gcc calls its 32x32 library routine for int32 * uint8
 inline int32_t mul_i32_u8(int32_t a, uint8_t n) {
-  if (__builtin_constant_p(n)) return (int32_t)((uint32_t)a * n);
   fx::Word32 w;
   w.s = a;
   return (int32_t)(((uint32_t)fx::mul_ss(w.h.hi, n) << 16) + fx::mul_uu(w.h.lo, n));
@@ -69,19 +68,6 @@ inline uint32_t mul_hi_u32xu32(uint32_t a, uint32_t b) {
 inline int32_t shr7(int32_t x) { return (int32_t)((uint32_t)x << 1) >> 8; }                  // |x| < 2^30
 inline int16_t shr14_to_i16(int32_t x) { return (int16_t)fx::hi16((uint32_t)x << 2); }       // |x| < 2^29
 inline int16_t shr15_to_i16(int32_t x) { return (int16_t)fx::hi16((uint32_t)x << 1); }       // |x| < 2^30
-
-// x >> n with n < 32, a whole byte as a register move first
-inline uint32_t shift_right(uint32_t x, uint8_t n) {
-  if (n >= 16) {
-    x >>= 16;
-    n -= 16;
-  }
-  if (n >= 8) {
-    x >>= 8;
-    n -= 8;
-  }
-  return x >> n;
-}
 
 // x >> n with n < 32, rounded to nearest
 inline uint32_t shift_right_rounded(uint32_t x, uint8_t n) {

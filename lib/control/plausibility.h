@@ -80,7 +80,7 @@ class PlausibilityMonitor {
       return faults_;
     }
     rail_count_ = 0;
-    if (have_prev_ && magnitude_u32(sub_saturated(position, prev_)) > jump_limit(samples)) {
+    if (have_prev_ && magnitude_u32(sub_saturated(position, prev_)) > (uint32_t)c_.max_step * samples) {
       faults_ |= kFaultJump;
       prev_ = position;
       drive_dir_ = 0;
@@ -128,11 +128,6 @@ class PlausibilityMonitor {
   uint8_t faults() const { return faults_; }
 
  private:
-  // max_step per sample period: the product (a library call on the AVR) only for an overran call
-  uint32_t jump_limit(uint8_t samples) const {
-    return samples == 1 ? (uint32_t)c_.max_step : (uint32_t)c_.max_step * samples;
-  }
-
   PlausibilityConfig c_{1, 1, 1, 0, 1, 1, 0, 1, 1};
   bool configured_ = false;
   uint8_t faults_ = 0;

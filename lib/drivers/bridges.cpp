@@ -49,11 +49,11 @@ void set_joint(int16_t duty_q15) {
   const uint16_t magnitude = (uint16_t)(duty_q15 < 0 ? -(int32_t)duty_q15 : duty_q15);
   const uint8_t s = SREG;
   cli();  // the e-stop ISR writes the same TCCRnA registers
-  if (duty_q15 > 0) {  // the idle side disconnected directly: side(p, 0) without its product
-    pins::set_com(b.right, 0);
+  if (duty_q15 > 0) {
+    side(b.right, 0);
     side(b.left, magnitude);
   } else {
-    pins::set_com(b.left, 0);
+    side(b.left, 0);
     side(b.right, magnitude);
   }
   SREG = s;

@@ -106,20 +106,3 @@ TEST(ControlEquivalence, PidUpdateIsBitIdenticalToTheQ19Version) {
   EXPECT_GT(held, compared / 100);
   EXPECT_GT(inside, compared / 10);
 }
-
-// The helpers behind the cuts, against plain 64-bit arithmetic: every n, 4,000 random values
-// each and the edges (the plausibility's jump limit max_step * samples uses mul_i32_u8 modulo
-// 2^32, as the uint32 product it replaced; the joystick's square-to-disc scale shift_right).
-TEST(ControlEquivalence, ProductAndShiftHelpersAreExact) {
-  Random r(77u);
-  const int32_t edges[] = {0, 1, -1, 32767, -32768, 65535, 65536, -65536, INT32_MAX, INT32_MIN, 1 << 23, -(1 << 23)};
-  for (int n = 0; n < 256; ++n) {
-    for (int k = 0; k < 4000 + (int)(sizeof edges / sizeof edges[0]); ++k) {
-      const int32_t a = k < 4000 ? r.in(INT32_MIN, INT32_MAX) : edges[k - 4000];
-      ASSERT_EQ((uint32_t)mul_i32_u8(a, (uint8_t)n), (uint32_t)((uint64_t)(uint32_t)a * (uint64_t)n)) << a << " * " << n;
-      if (n < 32) {
-        ASSERT_EQ(shift_right((uint32_t)a, (uint8_t)n), (uint32_t)a >> n) << a << " >> " << n;
-      }
-    }
-  }
-}
