@@ -34,6 +34,14 @@ inline int32_t sub_saturated(int32_t a, int32_t b) {
   return s;
 }
 
+// a * n for a product that fits int32 (modulo 2^32 otherwise), from two hardware 16x16
+// products: avr-gcc calls its 32x32 library routine for int32 * uint8
+inline int32_t mul_i32_u8(int32_t a, uint8_t n) {
+  fx::Word32 w;
+  w.s = a;
+  return (int32_t)(((uint32_t)fx::mul_ss(w.h.hi, n) << 16) + fx::mul_uu(w.h.lo, n));
+}
+
 // floor(a * b / 2^16) for unsigned operands, exact (the AVR routine, or 64-bit on the host)
 #if defined(__AVR__)
 inline uint32_t mul_hi_u32xu16(uint32_t a, uint16_t b) { return fx::mul_hi_u32xu16(a, b); }

@@ -117,24 +117,31 @@ class Pid {
     const int16_t e = saturate_i16(sub_saturated(setpoint, measurement));
     int16_t dm = saturate_i16(sub_saturated(measurement, m_prev_));
     m_prev_ = measurement;
-    if (samples == 2) dm = (int16_t)(dm >> 1);
-    else if (samples > 2) dm = (int16_t)(dm / (int16_t)samples);
-    // P and D in Q19, each clamped far beyond full output (2^26 = 128 x full) before summing
-    const int32_t p = clamp_i32(fx::mul_ss(e, c_.gains.kp_q4), -kTermLimit, kTermLimit);
-    const int32_t d = clamp_i32(fx::mul_ss(dm, c_.gains.kd), -kTermLimit / 16, kTermLimit / 16) * 16;
-    const int32_t pd = p - d + ((int32_t)feedforward_q15 << 4);
     int32_t di = fx::mul_ss(e, c_.gains.ki_q8);  // Q23
-    if (samples > 1) di = clamp_integral(di) * samples;  // at most full output a sample: no overflow
-    const int32_t limit = (int32_t)c_.out_max_q15 << 4;
-    const int32_t rate = (int32_t)c_.rate_q15 * samples;
-    const int32_t hi = clamp_i32(((int32_t)effort_ + rate) << 4, -limit, limit);
-    const int32_t lo = clamp_i32(((int32_t)effort_ - rate) << 4, -limit, limit);
+    if (samples != 1) {  // an overran call: the measurement's change per period, the integral over all
+      dm = per_sample(dm, samples);
+      if (samples > 1) di = mul_i32_u8(clamp_integral(di), samples);  // at most full output a sample: no overflow
+    }
+    // P in Q19 clamped far beyond full output (2^26 = 128 x full), then in Q23 beside the
+    // integral; D (clamped alike) and the feedforward stay in Q15 and join after the sum's
+    // byte shift. Exactly the Q19 formulation's effort (see the test's reference): with
+    // s = 16 P + I, that sum's u = P + 16 (ff - D) + floor(I / 16) is floor(s / 16) + 16 t, and
+    // its rounded, clamped effort is clamp(floor((s + 128) / 256) + t, lo, hi); so the only
+    // shift by other than whole bytes left is 16 P (shifts by 4 are loops on the AVR).
+    const int32_t p_q23 = clamp_i32(fx::mul_ss(e, c_.gains.kp_q4), -kTermLimit, kTermLimit) * 16;
+    const int32_t t_q15 =
+        (int32_t)feedforward_q15 - clamp_i32(fx::mul_ss(dm, c_.gains.kd), -kTermLimit / 16, kTermLimit / 16);
+    // the effort's limits this sample; effort_ stays within +-out_max, so each side has one bound
+    const int32_t rate = (int32_t)fx::mul_uu((uint16_t)c_.rate_q15, samples);
+    const int32_t up = effort_ + rate, down = effort_ - rate;
+    const int32_t hi = up > c_.out_max_q15 ? c_.out_max_q15 : up;
+    const int32_t lo = down < -c_.out_max_q15 ? -c_.out_max_q15 : down;
     const int32_t trial = clamp_integral(integral_q23_ + di);
-    const int32_t u_trial = pd + (trial >> 4);
+    const int32_t s_trial = p_q23 + trial;
     // conditional integration: hold the integral when it would push further into a limit
-    if (!((u_trial > hi && di > 0) || (u_trial < lo && di < 0))) integral_q23_ = trial;
-    const int32_t u = clamp_i32(pd + (integral_q23_ >> 4), lo, hi);
-    effort_ = (int16_t)((u + 8) >> 4);
+    // (u > 16 hi is s > 256 (hi - t) + 15, u < 16 lo is s < 256 (lo - t))
+    if (!((di > 0 && s_trial > (hi - t_q15) * 256 + 15) || (di < 0 && s_trial < (lo - t_q15) * 256))) integral_q23_ = trial;
+    effort_ = (int16_t)clamp_i32(((p_q23 + integral_q23_ + 128) >> 8) + t_q15, lo, hi);
     return duty_for(effort_);
   }
 
@@ -151,6 +158,15 @@ class Pid {
 
  private:
   static constexpr int32_t kTermLimit = (int32_t)1 << 26;  // Q19: 128 x full output
+
+  // the change of the measurement over `samples` periods as a change per period (an overran
+  // loop: rare, so out of line, and tested once in update so that the compiler does not copy
+  // the whole update per case of `samples`, 600 bytes)
+  static __attribute__((noinline)) int16_t per_sample(int16_t dm, uint8_t samples) {
+    if (samples == 2) return (int16_t)(dm >> 1);
+    if (samples > 2) return (int16_t)(dm / (int16_t)samples);
+    return dm;
+  }
 
   int32_t clamp_integral(int32_t i) const {
     const int32_t limit = (int32_t)c_.out_max_q15 << 8;
