@@ -25,11 +25,26 @@ uint32_t g_next_state_ms;  // the next state frame is due at this tick::now_ms()
 uint16_t g_velocity_age_ms = 0xFFFF;
 uint16_t g_loop_cycles_max;
 
-constexpr core::Scale kMrad = core::scale_for(1000.0 / core::kAngleCountsPerRad);  // Angle -> mrad
-constexpr core::Scale kMradPerS = core::scale_for(1000.0 / core::kRealPerRad);     // Q23 -> mrad/s (or mm)
-constexpr core::Scale kTenthMm = core::scale_for(10000.0 / core::kRealPerRad);     // Q23 m -> 0.1 mm
-
 int16_t to_i16(int32_t v) { return (int16_t)(v > 32767 ? 32767 : v < -32767 ? -32767 : v); }
+
+// One function per unit, so that each scale's shift is a constant (link.cpp is built for size,
+// which does not inline apply(): called with the scale as an argument its shift was a loop).
+int16_t mrad(fx::Angle a) {
+  constexpr core::Scale kMrad = core::scale_for(1000.0 / core::kAngleCountsPerRad);
+  return to_i16(core::apply(kMrad, a.raw));
+}
+int16_t mrad_s(fx::Real r) {
+  constexpr core::Scale kMradPerS = core::scale_for(1000.0 / core::kRealPerRad);
+  return to_i16(core::apply(kMradPerS, r.raw));
+}
+int16_t tenth_mm(fx::Real r) {
+  constexpr core::Scale kTenthMm = core::scale_for(10000.0 / core::kRealPerRad);
+  return to_i16(core::apply(kTenthMm, r.raw));
+}
+
+// a Q15 fraction in thousandths, rounded (x 2000 / 2^16: a byte shift, where / 32767 was a
+// 32-bit division of ~600 cycles); +-32767 gives +-1000
+int16_t permille(int16_t q15) { return (int16_t)(((int32_t)q15 * 2000 + 32768) >> 16); }
 
 void send(MsgType type, const uint8_t* payload, uint8_t length) {
   uint8_t frame[protocol::kMaxPayload + 7];
@@ -49,7 +64,7 @@ void reply(const protocol::Frame& f, ReplyStatus status) {
 constexpr uint8_t kTestHangCommand = 0x7F;
 #endif
 
-ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
+__attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
 #ifdef WMRA_TEST_HOOKS
   if (f.type == kTestHangCommand) {
     for (;;) {
@@ -99,7 +114,7 @@ ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
   return ReplyStatus::unknown_command;
 }
 
-void send_state() {
+__attribute__((noinline)) void send_state() {
   const Status& s = status();
   protocol::StateMsg m{};
   m.t_ms = tick::now_ms();
@@ -111,16 +126,16 @@ void send_state() {
   m.switches = s.switches;
   kin::JointAngles<kin::Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) {
-    m.q_mrad[j] = to_i16(core::apply(kMrad, s.q_measured[j].raw));
-    m.qd_mrad_s[j] = to_i16(core::apply(kMradPerS, s.qd_rad_s[j].raw));
+    m.q_mrad[j] = mrad(s.q_measured[j]);
+    m.qd_mrad_s[j] = mrad_s(s.qd_rad_s[j]);
     q.q[j] = s.q_ref[j];
   }
   const kin::Vec3<fx::Real> p = kin::hand_position<kin::Fixed>(kin::arm_trig<kin::Fixed>(q));
-  m.p_0p1mm[0] = to_i16(core::apply(kTenthMm, p.x.raw));
-  m.p_0p1mm[1] = to_i16(core::apply(kTenthMm, p.y.raw));
-  m.p_0p1mm[2] = to_i16(core::apply(kTenthMm, p.z.raw));
-  m.stick_permille[0] = (int16_t)((int32_t)s.stick_q15[0] * 1000 / 32767);
-  m.stick_permille[1] = (int16_t)((int32_t)s.stick_q15[1] * 1000 / 32767);
+  m.p_0p1mm[0] = tenth_mm(p.x);
+  m.p_0p1mm[1] = tenth_mm(p.y);
+  m.p_0p1mm[2] = tenth_mm(p.z);
+  m.stick_permille[0] = permille(s.stick_q15[0]);
+  m.stick_permille[1] = permille(s.stick_q15[1]);
   m.speed_scale_pct = s.speed_scale_pct;
   m.loop_cycles_max = g_loop_cycles_max;
   m.rx_crc_errors = g_parser.crc_errors();
@@ -140,6 +155,8 @@ void start(uint8_t reset_cause, uint8_t calibration) {
   send(MsgType::boot, payload, protocol::encode(b, payload));
 }
 
+// handle() and send_state() are not inlined here: the registers they need would be saved and
+// restored on every tick, for a command or a frame that comes every few ticks at most.
 void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   if (loop_cycles > g_loop_cycles_max) g_loop_cycles_max = loop_cycles;
   uint8_t byte;
