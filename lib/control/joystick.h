@@ -160,7 +160,16 @@ class Joystick {
     const uint16_t inv = rsqrt_normalised(fx::mul_uu(ax, ax) + fx::mul_uu(ay, ay), s);
     const uint16_t r = curve(m);
     uint32_t kk = fx::mul_uu(r, inv);  // r / |(x, y)| = kk 2^(s-31), in Q15 kk >> (16 - s)
-    for (uint8_t i = s; i < 16; ++i) kk >>= 1;
+    uint8_t n = (uint8_t)(16 - s);     // by bytes first: a 32-bit shift by one bit is a loop step
+    if (n >= 8) {
+      kk >>= 8;
+      n = (uint8_t)(n - 8);
+    }
+    if (n >= 8) {
+      kk >>= 8;
+      n = (uint8_t)(n - 8);
+    }
+    for (; n > 0; --n) kk >>= 1;
     const int16_t k = (int16_t)(kk > 32767u ? 32767u : kk);
     out[0] = shr15_to_i16(fx::mul_ss(x, k) + 16384);
     out[1] = shr15_to_i16(fx::mul_ss(y, k) + 16384);
