@@ -233,21 +233,18 @@ inline Angle atan2(int32_t y, int32_t x) {
   return Angle{y < 0 ? -a : a};
 }
 
-// floor(sqrt(v)) for a 32-bit unsigned v (bitwise, 16 rounds).
+// floor(sqrt(v)) for a 32-bit unsigned v: the root's bits from the top, each kept if the
+// square still fits, one 16x16 hardware product a bit (the remainder form of the bitwise
+// root needs 32-bit adds, compares and shifts for each, about twice the cycles on the AVR);
+// a value below 2^16 has no root bits above 2^7.
 inline uint16_t isqrt32(uint32_t v) {
-  uint32_t root = 0;
-  uint32_t bit = 1ul << 30;
-  while (bit > v) bit >>= 2;
-  while (bit != 0) {
-    if (v >= root + bit) {
-      v -= root + bit;
-      root = (root >> 1) + bit;
-    } else {
-      root >>= 1;
-    }
-    bit >>= 2;
+  uint16_t bit = v < 0x10000ul ? 0x80 : 0x8000;
+  uint16_t root = 0;
+  for (; bit != 0; bit >>= 1) {
+    const uint16_t trial = (uint16_t)(root | bit);
+    if (mul_uu(trial, trial) <= v) root = trial;
   }
-  return (uint16_t)root;
+  return root;
 }
 
 // sqrt(v) rounded to nearest, for v < 2^32 - 2^16

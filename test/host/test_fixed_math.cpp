@@ -159,6 +159,16 @@ TEST(FixedMath, IntegerSquareRoot) {
     ASSERT_LE((uint64_t)r * r, v);
     ASSERT_GT((uint64_t)(r + 1) * (r + 1), v);
   }
+  for (uint32_t v = 0; v < (1u << 18); ++v) {  // small values, and every square and its neighbours below 2^18
+    const uint32_t r = isqrt32(v);
+    ASSERT_LE((uint64_t)r * r, v);
+    ASSERT_GT((uint64_t)(r + 1) * (r + 1), v);
+  }
+  for (uint32_t r = 1; r < 65536; ++r) {
+    const uint32_t sq = r * r;
+    ASSERT_EQ(isqrt32(sq), r);
+    ASSERT_EQ(isqrt32(sq - 1), r - 1);
+  }
   EXPECT_EQ(isqrt32(0), 0);
   EXPECT_EQ(isqrt32(0xFFFFFFFFu), 65535);
 }
