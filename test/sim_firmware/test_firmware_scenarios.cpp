@@ -8,6 +8,7 @@
 #include "config/joints_config.h"
 #include "firmware_rig.h"
 #include "kinematics/arm_model.h"
+#include "plant/arm_plant_config.h"
 
 namespace {
 
@@ -28,12 +29,15 @@ TEST(FirmwareStartUp, HomesAndReachesTheReadyPose) {
   // the firmware's joint angles (steppers from homing and step counts, DC from pots) against the plant
   const protocol::StateMsg& s = rig.last();
   const plant::Joints q = rig.sim.q();
-  // DC joints: two counts of their pot, the ADC's truncation (a count), simavr's mV x 1023 / Vref
-  // against the datasheet's 1024 the firmware uses (up to 0.95 count) and the pot's noise
+  // DC joints, in counts of their pot: simavr truncates the millivolts (0.2 count) and the count
+  // (1), scales by 1023 where the firmware uses the datasheet's 1024 (up to 0.95 count), and the
+  // pot's noise is in the one conversion read (4 sigma)
   const double pot_counts = (config::kPotAtMax_mV - config::kPotAtMin_mV) * 1024.0 / config::kAdcRef_mV;
+  const double noise_counts = 4 * plant::kPotNoiseMv * 1023 / plant::kAdcRefMv;
+  const double dc_tolerance_counts = 0.2 + 1 + 0.95 + noise_counts;
   for (int j = 0; j < 6; ++j) {
     const double count_mrad = 1000 * (arm::q_max_rad(j) - arm::q_min_rad(j)) / pot_counts;
-    const double tolerance_mrad = (j == 0 || j >= 4) ? 3.0 : 2 * count_mrad;
+    const double tolerance_mrad = (j == 0 || j >= 4) ? 3.0 : dc_tolerance_counts * count_mrad;
     EXPECT_NEAR(s.q_mrad[j], q[j] * 1000.0, tolerance_mrad) << "joint " << j + 1;
   }
   // off the singular J5 = -90 deg, at the configured ready pose (70, 20, -70, 50, -30, 0 deg)
