@@ -65,12 +65,19 @@ class DcServo {
   // into the loop cost 3 KB of flash for a call's 50 cycles.
   // ticks: the control ticks since the last update (more than one: the loop overran); the PID
   // and the park timers count time, not calls.
+  // holding_q15: the effort that holds the joint's load (+: the drive pushes positive to hold
+  // it), for a standing reference that the joint has not reached yet.
   __attribute__((noinline)) int16_t update(int32_t reference_units, int32_t measured_units, int16_t feedforward_q15,
-                                           uint8_t ticks = 1) {
+                                           int16_t holding_q15 = 0, uint8_t ticks = 1) {
     const int32_t e = reference_units - measured_units;
     const uint32_t error = (uint32_t)(e < 0 ? -e : e);
     const bool still = feedforward_q15 < c_.pid.zero_band_q15 && -feedforward_q15 < c_.pid.zero_band_q15;
     const uint8_t direction = feedforward_q15 < 0 ? 1 : 0;
+    if (still && !was_still_) pid_.preset_integral(0);
+    was_still_ = still;
+    // a standing reference ahead: the effort that lifts the load, if the error asks to lift (a
+    // worm that does not back-drive lowers it with none)
+    if (still && (e > 0) == (holding_q15 > 0) && e != 0) feedforward_q15 = holding_q15;
     if (parked_) {
       out_of_band_ = error > 2 * (uint32_t)c_.park_units ? (uint16_t)(out_of_band_ + ticks) : 0;
       if (!still || out_of_band_ >= c_.unpark_ticks) {
@@ -109,6 +116,7 @@ class DcServo {
   uint16_t out_of_band_ = 0;
   uint16_t in_band_ = 0;
   int16_t applied_ = 0;
+  bool was_still_ = true;
 };
 
 }  // namespace core
