@@ -15,7 +15,11 @@
 // payload: 70 % duty), and one that lowers it needs little. Restarting the integral from zero
 // after each park left J3 standing for most of a second while the error built it up. So the
 // integral's effort while the reference moves is remembered per direction, and a restart in
-// that direction presets the integral with it (not a restart to correct a standing error). The checks get the duty that was applied during the tick that
+// that direction presets the integral with it (not a restart to correct a standing error).
+// When the reference stops, the integral's moving effort is dropped (a worm-geared joint needs
+// none at rest; kept, it pushed J3 24 mrad past a stopped reference), and a standing
+// reference the joint has not reached gets the load's holding effort only if the error asks to
+// lift (the worm lowers the load with none). The checks get the duty that was applied during the tick that
 // ends with the reading, as PlausibilityMonitor requires.
 #pragma once
 

@@ -1,5 +1,5 @@
 // The DC joint's servo (firmware/core/dc_servo.h) against a simple model of a worm-geared joint
-// that lifts a load: how it stops at a standing reference and closes a standing error.
+// that lifts a load: how it closes the error to a standing reference up and down.
 #include <gtest/gtest.h>
 
 #include <cmath>
