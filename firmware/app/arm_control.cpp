@@ -87,6 +87,30 @@ constexpr int32_t kRealPerAngleCountPerTick = (int32_t)(core::kRealPerRad * kLoo
 
 constexpr int16_t permille_q15(int16_t permille) { return (int16_t)((int32_t)permille * 32767 / 1000); }
 
+// The duty beyond the stiction's a motion needs as the PID's effort: the dead-zone inverse maps
+// effort e to min + e (1 - min) (lib/control/pid.h), and the stiction's min duty is what the
+// worm's friction takes while the joint runs, so the model's duty is divided by that slope.
+constexpr int32_t kDutySlope_permille = 1000 - kDcMinDuty_permille;
+// 1 / slope = 1 + (1 / slope - 1): one 16x16 product and a shift by whole bytes (a 32-bit
+// division is ~600 cycles, a shift by 15 a loop)
+constexpr int16_t kInverseSlopeLess1_q16 = (int16_t)(65536.0 * kDcMinDuty_permille / kDutySlope_permille + 0.5);
+static_assert(kDcMinDuty_permille * 3 < 1000, "1 / slope - 1 below a half: a Q16 fraction in 16 bits");
+int32_t effort_for_duty(int32_t duty_q15) {
+  const int16_t d = (int16_t)(duty_q15 > 32767 ? 32767 : duty_q15 < -32767 ? -32767 : duty_q15);
+  return d + ((fx::mul_ss(d, kInverseSlopeLess1_q16) + 32768) >> 16);
+}
+// the inertia's feedforward: duty per change of the reference speed in one tick, Q8 of
+// (Q15 duty per Q23 rad/s) x 2^16: J_worm x gear x loop rate / stall torque at the worm
+constexpr int32_t accel_feedforward_q8(uint8_t d) {
+  return (int32_t)(kDcInertiaAtWorm_gm2[d] / 1000.0 * kDcGear_tenths[d] / 10.0 * kLoopHz / (kDcStallTorque_cNm / 100.0) *
+                       32768.0 / 8388608.0 * 65536.0 +
+                   0.5);
+}
+constexpr int16_t kDcAccelFeedforward_q8[3] = {(int16_t)accel_feedforward_q8(0), (int16_t)accel_feedforward_q8(1),
+                                               (int16_t)accel_feedforward_q8(2)};
+static_assert(accel_feedforward_q8(0) < 32768 && accel_feedforward_q8(1) < 32768 && accel_feedforward_q8(2) < 32768,
+              "the inertia's feedforward fits 16 bits");
+
 // switch bits (inputs.h): 2j low, 2j+1 high; J6's zero switch is passed in normal motion
 constexpr uint16_t kSwitchesArmed = 0x3FF;
 constexpr uint16_t kHomingSwitch[3] = {1u << 1, 1u << 8, inputs::kJ6ZeroSwitch};  // J1 high, J5 low, J6 zero
@@ -101,6 +125,7 @@ control::Button g_button;
 core::DcServo g_servo[3];
 core::PotMap g_pot[3];
 int32_t g_dc_units[3];  // measured, ADC counts x 16
+fx::Real g_dc_qd_prev[3];  // the DC references' speeds of the last dc_tick (their acceleration)
 int32_t g_dc_reference_units[3];  // the references in pot units, as the last dc_tick drove them
 int32_t g_lag_slow_units[3], g_lag_stop_units[3], g_lag_fault_units[3];
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
@@ -108,6 +133,7 @@ core::StepperHoming g_homing[3];
 core::AngleAccumulator g_q[6];  // joint references
 fx::Real g_qd[6];             // joint reference velocities
 core::HoldingEffort g_holding;  // the DC joints' holding effort at the reference pose
+int16_t g_holding_effort_q15[3];  // the same as the servos' effort (through the dead-zone inverse)
 uint8_t g_holding_ticks_left;   // until it is computed again
 kin::Vec3<fx::Real> g_v_m_s;  // the hand's commanded velocity, as far as g_qd has reached it
 kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
@@ -394,17 +420,29 @@ WMRA_SMALL void update_holding() {
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
   g_holding = core::holding_effort(kin::arm_trig<Fixed>(q));
-  constexpr int16_t kUsable_q15 = permille_q15(1000 - kDcDutyReserve_permille);
+  // the model plans with the duty beyond the stiction's (the dead-zone inverse's slope), and
+  // keeps the reserve's share of what is left after the holding effort for the PID
+  constexpr int16_t kUsable_q15 = permille_q15(kDutySlope_permille);
+  constexpr int16_t kPlanned_q15 = permille_q15(1000 - kDcDutyReserve_permille);
   static constexpr fx::Real kFullDutySpeed[3] = {fx::real(Ratio{kDcFullDutySpeed_crad_s[0], 100}),
                                                  fx::real(Ratio{kDcFullDutySpeed_crad_s[1], 100}),
                                                  fx::real(Ratio{kDcFullDutySpeed_crad_s[2], 100})};
   for (uint8_t d = 0; d < 3; ++d) {
     const int16_t h = g_holding.duty_q15[d];
+    g_holding_effort_q15[d] = (int16_t)effort_for_duty(h);
     const int16_t up = (int16_t)(kUsable_q15 - (h > 0 ? h : 0)), down = (int16_t)(kUsable_q15 - (h < 0 ? -h : 0));
-    g_drives.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * kFullDutySpeed[d];
-    g_drives.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * kFullDutySpeed[d];
+    g_drives.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * (fx::Unit{kPlanned_q15} * kFullDutySpeed[d]);
+    g_drives.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * (fx::Unit{kPlanned_q15} * kFullDutySpeed[d]);
   }
 }
+
+constexpr int32_t kStandingSpeed = fx::real(Ratio{kDcStandingSpeed_mrad_s, 1000}).raw;
+constexpr int32_t kMaxDcChange = kMaxSpeedChangePerTick[1].raw > kMaxSpeedChangePerTick[2].raw
+                                     ? (kMaxSpeedChangePerTick[1].raw > kMaxSpeedChangePerTick[3].raw ? kMaxSpeedChangePerTick[1].raw
+                                                                                                      : kMaxSpeedChangePerTick[3].raw)
+                                     : (kMaxSpeedChangePerTick[2].raw > kMaxSpeedChangePerTick[3].raw ? kMaxSpeedChangePerTick[2].raw
+                                                                                                      : kMaxSpeedChangePerTick[3].raw);
+static_assert(kMaxDcChange < 32768, "a DC reference's change of speed in one tick fits 16 bits");
 
 void dc_tick(uint8_t ticks) {
   if (g_holding_ticks_left-- == 0) {
@@ -416,10 +454,20 @@ void dc_tick(uint8_t ticks) {
     g_dc_reference_units[d] = reference;
     const int32_t lag = reference - g_dc_units[d];
     if (lag > g_lag_fault_units[d] || lag < -g_lag_fault_units[d]) g_faults |= core::fault_mask(core::kFaultBitTracking);
-    const fx::Real qd = g_qd[kDcJoint[d]];
-    const int32_t feedforward = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw);
+    // a reference creeping slower than the standing speed (the drift correction's trickle) stands:
+    // no effort of a motion, the servo parks and follows it a count at a time
+    const fx::Real qd_raw = g_qd[kDcJoint[d]];
+    const fx::Real qd = qd_raw.raw < kStandingSpeed && qd_raw.raw > -kStandingSpeed ? fx::Real{0} : qd_raw;
+    const int32_t change = qd.raw - g_dc_qd_prev[d].raw;
+    g_dc_qd_prev[d] = qd;
+    // one tick's change at most the acceleration limit's (a larger one: the reference started
+    // or stopped standing, or the loop overran), which fits 16 bits
+    const int16_t accel = (int16_t)(change > kMaxDcChange ? kMaxDcChange : change < -kMaxDcChange ? -kMaxDcChange : change);
+    const int32_t duty = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw) +
+                         (fx::mul_ss(accel, kDcAccelFeedforward_q8[d]) >> 16);
+    const int32_t feedforward = effort_for_duty(duty);
     const int16_t feedforward_q15 = (int16_t)(feedforward > 32767 ? 32767 : feedforward < -32767 ? -32767 : feedforward);
-    bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15, ticks));
+    bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15, g_holding_effort_q15[d], ticks));
   }
 }
 

@@ -72,6 +72,15 @@ constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}}
 // measure on the arm). The PID adds speed / this as effort, and its integral the rest (load,
 // friction).
 constexpr int16_t kDcFullDutySpeed_crad_s[3] = {198, 356, 445};
+// Inertia each DC drive moves, at its worm's output (for the acceleration's feedforward):
+// the motor's rotor through the worm and the wheel, about 50 g m^2 (estimate: measure the
+// coast-down time constant, tau = J w0 / T_stall), plus the links and payload beyond the joint
+// (gravity_config's point masses at the ready pose, about 1.5, 0.5 and 0.15 kg m^2 at J2..J4)
+// over the joint's gear squared. Too small only leaves some lag for the PID; too large leads.
+constexpr int16_t kDcInertiaAtWorm_gm2[3] = {120, 130, 90};
+// A DC reference slower than this stands (no feedforward; the servo may park): the drift
+// correction's trickle after the stick is let go, a pot count (3.4-6 mrad) in most of a second or slower.
+constexpr int16_t kDcStandingSpeed_mrad_s = 5;
 // Duty kept back for the PID's corrections: a DC joint that lifts its load may go only as fast
 // as the rest of full duty beyond its holding effort takes it (firmware/core/gravity.h); the
 // whole arm slows with it, so that the hand stays on its line.
@@ -140,6 +149,10 @@ static_assert(kDcFullDutySpeed_crad_s[0] >= 100 && kDcFullDutySpeed_crad_s[1] >=
                   kDcFullDutySpeed_crad_s[0] <= 2000 && kDcFullDutySpeed_crad_s[1] <= 2000 &&
                   kDcFullDutySpeed_crad_s[2] <= 2000,
               "DC joint speeds at full duty in [1, 20] rad/s");
+static_assert(kDcInertiaAtWorm_gm2[0] > 0 && kDcInertiaAtWorm_gm2[1] > 0 && kDcInertiaAtWorm_gm2[2] > 0 &&
+                  kDcInertiaAtWorm_gm2[0] <= 1000 && kDcInertiaAtWorm_gm2[1] <= 1000 && kDcInertiaAtWorm_gm2[2] <= 1000,
+              "DC inertia at the worm in (0, 1] kg m^2");
+static_assert(kDcStandingSpeed_mrad_s > 0 && kDcStandingSpeed_mrad_s <= 50, "DC standing speed in (0, 50] mrad/s");
 static_assert(kTrackingSlowFrom_mrad > 0 && kTrackingSlowFrom_mrad < kTrackingStopAt_mrad &&
                   kTrackingStopAt_mrad < kTrackingFault_mrad,
               "tracking: slow from < stop at < fault");

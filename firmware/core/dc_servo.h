@@ -15,7 +15,11 @@
 // payload: 70 % duty), and one that lowers it needs little. Restarting the integral from zero
 // after each park left J3 standing for most of a second while the error built it up. So the
 // integral's effort while the reference moves is remembered per direction, and a restart in
-// that direction presets the integral with it (not a restart to correct a standing error). The checks get the duty that was applied during the tick that
+// that direction presets the integral with it (not a restart to correct a standing error).
+// When the reference stops, the integral's moving effort is dropped (a worm-geared joint needs
+// none at rest; kept, it pushed J3 24 mrad past a stopped reference), and a standing
+// reference the joint has not reached gets the load's holding effort only if the error asks to
+// lift (the worm lowers the load with none). The checks get the duty that was applied during the tick that
 // ends with the reading, as PlausibilityMonitor requires.
 #pragma once
 
@@ -65,12 +69,19 @@ class DcServo {
   // into the loop cost 3 KB of flash for a call's 50 cycles.
   // ticks: the control ticks since the last update (more than one: the loop overran); the PID
   // and the park timers count time, not calls.
+  // holding_q15: the effort that holds the joint's load (+: the drive pushes positive to hold
+  // it), for a standing reference that the joint has not reached yet.
   __attribute__((noinline)) int16_t update(int32_t reference_units, int32_t measured_units, int16_t feedforward_q15,
-                                           uint8_t ticks = 1) {
+                                           int16_t holding_q15 = 0, uint8_t ticks = 1) {
     const int32_t e = reference_units - measured_units;
     const uint32_t error = (uint32_t)(e < 0 ? -e : e);
     const bool still = feedforward_q15 < c_.pid.zero_band_q15 && -feedforward_q15 < c_.pid.zero_band_q15;
     const uint8_t direction = feedforward_q15 < 0 ? 1 : 0;
+    if (still && !was_still_) pid_.preset_integral(0);
+    was_still_ = still;
+    // a standing reference ahead: the effort that lifts the load, if the error asks to lift (a
+    // worm that does not back-drive lowers it with none)
+    if (still && (e > 0) == (holding_q15 > 0) && e != 0) feedforward_q15 = holding_q15;
     if (parked_) {
       out_of_band_ = error > 2 * (uint32_t)c_.park_units ? (uint16_t)(out_of_band_ + ticks) : 0;
       if (!still || out_of_band_ >= c_.unpark_ticks) {
@@ -109,6 +120,7 @@ class DcServo {
   uint16_t out_of_band_ = 0;
   uint16_t in_band_ = 0;
   int16_t applied_ = 0;
+  bool was_still_ = true;
 };
 
 }  // namespace core

@@ -1,0 +1,86 @@
+// The DC joint's servo (firmware/core/dc_servo.h) against a simple model of a worm-geared joint
+// that lifts a load: how it closes the error to a standing reference up and down.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+#include "core/dc_servo.h"
+
+namespace {
+
+using namespace wmra;
+
+constexpr int32_t kUnitsPerCount = 16;
+constexpr int16_t kMinDuty_q15 = 3604;  // 11 %: the worm's stiction
+
+// J3's numbers: the pole-placement gains of joints_config.h at 1 kHz, the loop's duty shaping
+core::DcServoConfig config() {
+  core::DcServoConfig c{};
+  c.use_relay = false;
+  c.pid = control::PidConfig{
+      control::pid_gains(Ratio{8799, 100000}, Ratio{24367, 100000}, Ratio{8551, 1000000}, 1000, kUnitsPerCount).gains, 32767,
+      32767 / 50, kMinDuty_q15, 327};
+  c.relay = control::RelayConfig{2 * kUnitsPerCount, 0, 19660};
+  c.checks = control::PlausibilityConfig{31128, 300, 2 * kUnitsPerCount, 200, 8 * kUnitsPerCount, 12 * kUnitsPerCount,
+                                         20 * kUnitsPerCount, 1003 * kUnitsPerCount, 5};
+  c.park_units = kUnitsPerCount;
+  c.park_ticks = 50;
+  c.unpark_ticks = 10;
+  return c;
+}
+
+// A worm-geared joint lifting a load of `hold` (duty): it moves up only above hold + stiction,
+// down below -stiction, and stands otherwise (the worm does not back-drive); its speed follows
+// the free duty with a 60 ms time constant; full free duty is `full` units a tick.
+struct WormJoint {
+  double hold, full, x, v = 0;
+  int32_t read() const { return (int32_t)std::lround(x / kUnitsPerCount) * kUnitsPerCount; }  // a pot count
+  void step(int16_t duty_q15) {
+    const double u = duty_q15 / 32768.0, stiction = kMinDuty_q15 / 32768.0;
+    const double free = u > hold + stiction ? u - hold - stiction : u < -stiction ? u + stiction : 0;
+    if (free == 0) v = 0;  // the worm holds
+    else v += (free * full - v) / 60.0;
+    x += v;
+  }
+};
+
+// a standing reference 4 counts above a joint that stands: the holding effort in the lifting
+// direction gets it there at once (with the integral alone, 0.6 of duty takes most of a second)
+TEST(DcServo, AStandingReferenceAheadGetsTheHoldingEffort) {
+  int with_holding = 0;
+  for (int16_t passed : {(int16_t)24000, (int16_t)0}) {
+    WormJoint joint{0.6, 3.0, 5000};
+    core::DcServo servo;
+    ASSERT_TRUE(servo.configure(config()));
+    servo.rest(joint.read());
+    const int32_t reference = joint.read() + 4 * kUnitsPerCount;
+    int reached = -1;
+    for (int k = 0; k < 2000 && reached < 0; ++k) {
+      joint.step(servo.update(reference, joint.read(), 0, passed));
+      if (std::abs(joint.read() - reference) <= kUnitsPerCount) reached = k;
+    }
+    if (passed) {
+      EXPECT_GE(reached, 0);
+      EXPECT_LE(reached, 300) << "ms to within a count";
+      with_holding = reached;
+    } else {
+      EXPECT_TRUE(reached < 0 || reached > 2 * with_holding) << "the integral alone was as quick: the test shows nothing";
+    }
+  }
+}
+
+// lowering needs no holding effort (the worm takes the load): a standing reference below gets
+// none: it ends at the reference, not held above it
+TEST(DcServo, AStandingReferenceBelowGetsNoHoldingEffort) {
+  WormJoint joint{0.6, 3.0, 5000};
+  core::DcServo servo;
+  ASSERT_TRUE(servo.configure(config()));
+  servo.rest(joint.read());
+  const int32_t reference = joint.read() - 4 * kUnitsPerCount;
+  for (int k = 0; k < 500; ++k) joint.step(servo.update(reference, joint.read(), 0, 24000));
+  EXPECT_LE(std::abs(joint.read() - reference), kUnitsPerCount);
+}
+
+}  // namespace
