@@ -81,11 +81,11 @@ void expect_straight_line(const ScenarioRun& r, double t0, int axis) {
   ::testing::Test::RecordProperty("turned_deg", std::to_string(turned_deg));
 }
 
-// Not met yet (DISABLED_, see README): S1 moves at 0.143 m/s, 11.3 mm off the axis, turned
-// 1.07 deg; S3 in R2 turns at 0.47 rad/s with the origin moving 24.7 mm. The DC joints (J2 to
+// Not met yet (DISABLED_, see README): S1 moves at 0.143 m/s, 14.8 mm off the axis, turned
+// 1.08 deg; S3 in R2 turns at 0.47 rad/s with the origin moving 22.6 mm. The DC joints (J2 to
 // J4) still lag their references at speed (J4 10-25 mrad; their pots resolve 3.4-6 mrad a
 // count), which moves the hand off the line; the figures move by millimetres with any change
-// of the loop's timing. S2 (0.146 m/s, 1.6 mm, 0.89 deg) passes since the DC feedforward
+// of the loop's timing. S2 (0.149 m/s, 2.4 mm, 0.58 deg) passes since the DC feedforward
 // plans within the drives' capacity.
 TEST(FirmwareMotion, DISABLED_S1FullStickInXYMovesTheHandAlongX) {
   ScenarioRun r;
