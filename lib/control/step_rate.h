@@ -4,7 +4,9 @@
 //
 // Each tick the speed v moves towards the wanted speed by at most a dt:
 //   speed command   wanted = the command (|command| below the slowest speed: 0)
-//   position move   wanted = sign(d) min(v_cmd, sqrt(2 a |d|)), d = target - steps made
+//   position move   towards the target (d = target - steps made): v + a dt (at most v_cmd)
+//                   if it can still brake on the target after this tick (u (u + a dt) <= 2 a |d|,
+//                   no root), else v - a dt
 // and v changes sign only through 0, and only once the channel has made its last step the
 // other way. The interval is kTickHz / v in Q8 timer ticks (the ISR carries the fraction),
 // from a table reciprocal (no division at run time); |v| below the slowest speed (the longest
@@ -53,12 +55,13 @@ struct StepRateConstants {
   uint32_t min_interval_q8;
   uint32_t max_interval_q8;
   uint32_t two_a;              // 2 a, steps/s^2
-  uint32_t full_speed_steps;   // |d| from which sqrt(2 a |d|) >= v_max: no root needed
+  uint32_t full_speed_steps;   // |d| from which any speed up to v_max can brake in time (1 tick)
+  uint32_t budget_saturation_steps;  // |d| from which 2 a |d| saturates 32 bits
   int32_t one_step_brake_q8;   // sqrt(2 a): the braking curve one step from the target
 };
 
 constexpr StepRateConstants step_rate_constants(uint32_t tick_hz, uint16_t loop_hz, const StepRateConfig& c) {
-  StepRateConstants k{RateStatus::ok, 0, 0, 0, 0, 0, 0, 0, 0};
+  StepRateConstants k{RateStatus::ok, 0, 0, 0, 0, 0, 0, 0, 0, 0};
   if (c.accel_steps_s2 <= 0) {
     k.status = RateStatus::accel_not_positive;
     return k;
@@ -97,7 +100,8 @@ constexpr StepRateConstants step_rate_constants(uint32_t tick_hz, uint16_t loop_
   k.min_interval_q8 = (uint32_t)c.min_interval_ticks << 8;
   k.max_interval_q8 = (uint32_t)c.max_interval_ticks << 8;
   k.two_a = (uint32_t)c.accel_steps_s2 * 2;
-  k.full_speed_steps = (uint32_t)((uint64_t)v_max * v_max / k.two_a + 1);
+  k.full_speed_steps = (uint32_t)((uint64_t)v_max * (v_max + dv / 256) / k.two_a + 1);
+  k.budget_saturation_steps = 0xFFFFFFFFu / k.two_a;
   k.one_step_brake_q8 = (int32_t)(isqrt64((uint64_t)k.two_a << 16) + 1);
   return k;
 }
@@ -179,28 +183,20 @@ class StepRate {
         v_q8_ = 0;  // stopped on the target (by the ISR's count): at rest there
         return StepPlan{0, 0};
       }
-      // the braking curve, sqrt(2 a d), less half a tick's change: held for a tick, the speed
-      // then ends near a dt / 2 at the target instead of a dt above it
-      int32_t brake = k_.v_max_q8;
-      if (d == 0) {
-        brake = 0;  // passing the target (braking from too fast): on, and back
-      } else if (d < k_.full_speed_steps) {
-        brake = root_q8(k_.two_a * d) - dv / 2;
-      }
-      if (want > brake) want = brake;
-      if (want < k_.v_min_q8) want = k_.v_min_q8;  // never stall short of the target
-      // Stopped by the ISR on the target from at most the braking curve plus the tracking's
-      // lag (2 a dt) plus sqrt(2 a) (the curve one step out: its last step is that fast anyway);
-      // faster (a new target close ahead) it brakes at the limit, passes it, and comes back.
-      // Once stopping on a target it goes on doing so (near it the curve falls faster than
-      // a dt a tick, and the lag grows past that margin at the last steps).
-      const bool toward = v == 0 || (v > 0) == (to_go > 0);
-      if (d != 0 && toward && (stopping_ || (int32_t)magnitude_u32(v) <= (brake > k_.v_min_q8 ? brake : k_.v_min_q8) + 2 * dv + k_.one_step_brake_q8)) {
+      // Stopped by the ISR on the target when it can brake there (with a slack of the
+      // tracking's 2 a dt and sqrt(2 a), the braking curve's speed one step out); once so,
+      // it goes on (near the target the curve falls faster than a dt a tick). Faster (a new
+      // target close ahead) it brakes at the limit, passes the target and comes back.
+      const bool toward = d != 0 && (v == 0 || (v > 0) == (to_go > 0));
+      const uint32_t speed = magnitude_u32(v);
+      const uint32_t slack = (uint32_t)(2 * dv + k_.one_step_brake_q8);
+      if (toward && (stopping_ || speed <= slack || can_brake_in(speed - slack, dv_steps_s(dv), brake_budget(d)))) {
         stopping_ = true;
         steps_left = d > kNoStop ? kNoStop : (uint16_t)d;  // the ISR stops on the target itself
+        want = approach_speed(speed, (uint32_t)want, d, dv, ticks);
       } else {
         stopping_ = false;
-        if (toward) want = 0;
+        if (toward || d == 0) want = 0;
       }
       if (to_go < 0) want = -want;
     } else if ((want > 0 && position_ >= kPositionLimit) || (want < 0 && position_ <= -kPositionLimit)) {
@@ -234,7 +230,7 @@ class StepRate {
   // kTickHz 256 / (speed_q8 / 256), for speeds in [v_min, v_max]: the table reciprocal of
   // kinematics/reciprocal.h. speed = M 2^(e-16) with M in [2^15, 2^16): 2^31 / M is the
   // table's 1/(2m); then kTickHz 2^16 / speed = (kTickHz 2^8) (2^31/M) 2^(-7-e)
-  uint32_t interval_q8(uint32_t speed_q8) const {
+  __attribute__((always_inline)) uint32_t interval_q8(uint32_t speed_q8) const {
     uint8_t e = 32;
     uint32_t v = speed_q8;
     while (v < (1ul << 24)) {  // whole bytes first (a byte move on the AVR)
@@ -266,18 +262,32 @@ class StepRate {
     return q8 < k_.v_min_q8 ? 0 : q8;
   }
 
-  // sqrt(x) in Q8 for 1 <= x < 2^32 (x 1/sqrt(x), the table root of control_math.h)
-  static int32_t root_q8(uint32_t x) {
-    uint8_t s;
-    const uint16_t r = rsqrt_normalised(x, s);  // 1/sqrt(x) = r 2^(s-31)
-    // sqrt(x) 2^8 = x r 2^(s-23) = (x r 2^-16) 2^(s-7)
-    uint32_t p = mul_hi_u32xu16(x, r);
-    for (uint8_t i = s; i < 7; ++i) p >>= 1;
-    for (uint8_t i = 7; i < s; ++i) p <<= 1;
-    return (int32_t)p;
+  // Braking from u after this tick, a dt less each tick, stops within d steps: the tick at
+  // u, then u - a dt, ... covers u^2 / (2a) + u dt / 2, so u (u + a dt) <= 2 a d (steps/s;
+  // products below 2^32: u <= v_max, a dt capped at v_max, v_max^2 < 2^31).
+  static bool can_brake_in(uint32_t speed_q8, uint32_t dv_steps_s, uint32_t budget) {
+    const uint32_t u = speed_q8 >> 8;
+    return u * (u + dv_steps_s) <= budget;
+  }
+  uint32_t brake_budget(uint32_t d) const { return d >= k_.budget_saturation_steps ? 0xFFFFFFFFu : k_.two_a * d; }
+  uint32_t dv_steps_s(int32_t dv_q8) const {
+    const uint32_t dv = (uint32_t)dv_q8 >> 8, v_max = (uint32_t)k_.v_max_q8 >> 8;
+    return dv > v_max ? v_max : dv;
+  }
+  // A position move's speed for this tick (magnitude, Q8): up by a dt (to the command) if it
+  // can still brake on the target after it, else down by a dt; never below the slowest speed
+  // (it would stall short of the target).
+  uint32_t approach_speed(uint32_t speed, uint32_t command, uint32_t d, int32_t dv, uint8_t ticks) const {
+    uint32_t up = speed + (uint32_t)dv;
+    if (up > command) up = command;
+    uint32_t next = up;
+    if (!(ticks == 1 && d >= k_.full_speed_steps) && !can_brake_in(up, dv_steps_s(dv), brake_budget(d))) {
+      next = speed > (uint32_t)dv ? speed - (uint32_t)dv : 0;
+    }
+    return next < (uint32_t)k_.v_min_q8 ? (uint32_t)k_.v_min_q8 : next;
   }
 
-  StepRateConstants k_{RateStatus::ok, 0, 0, 0x7FFFFFFF, 0, 0, 0, 0, 0};  // not configured: no speed is fast enough
+  StepRateConstants k_{RateStatus::ok, 0, 0, 0x7FFFFFFF, 0, 0, 0, 0, 0, 0};  // not configured: no speed is fast enough
   int32_t want_q8_ = 0;
   bool has_target_ = false;
   bool stopping_ = false;  // the ISR has the target's steps left

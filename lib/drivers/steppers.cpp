@@ -259,7 +259,7 @@ Rate& rate(uint8_t i) { return g_rates[i]; }
 
 // -O2 whatever the file's level: it runs every iteration, inside the 1 ms (3 x 20 kHz leaves
 // ~3,000 cycles of it beside an 8,000-cycle iteration and the step ISRs)
-__attribute__((optimize("O2"))) void service(uint8_t ticks) {
+__attribute__((optimize("O3"))) void service(uint8_t ticks) {
   for (uint8_t i = 0; i < kCount; ++i) {
     const int8_t stepping = count_made(i);
     if (g_killed) continue;  // the ramps as they were: the caller sees which were moving
