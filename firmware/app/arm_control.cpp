@@ -38,7 +38,7 @@ using kin::Fixed;
 using namespace config;
 
 // --- joints and their drives
-constexpr uint8_t kStepperJoint[3] = {0, 4, 5};  // J1, J5, J6: steppers::ramp(i)
+constexpr uint8_t kStepperJoint[3] = {0, 4, 5};  // J1, J5, J6: steppers::rate(i)
 constexpr uint8_t kDcJoint[3] = {1, 2, 3};       // J2, J3, J4: bridges::set(d)
 // One sweep per tick (adc_scan.h), the pots twice: the loop reads their second conversions,
 // 0.6 to 0.8 ms into the sweep, so that the DC joints' feedback is as fresh as the free-running
@@ -58,7 +58,7 @@ constexpr int32_t steps_of_deg(uint8_t i, int16_t deg) { return steps_of(i, deg 
 
 constexpr core::MotionLimits kLimits = core::motion_limits();
 
-constexpr control::StepRampConfig kRampConfig[3] = {
+constexpr control::StepRateConfig kRampConfig[3] = {
     {steps_per_s(0, kStepperAccel_crad_s2[0]), kStepMinInterval_ticks, kStepMaxInterval_ticks},
     {steps_per_s(1, kStepperAccel_crad_s2[1]), kStepMinInterval_ticks, kStepMaxInterval_ticks},
     {steps_per_s(2, kStepperAccel_crad_s2[2]), kStepMinInterval_ticks, kStepMaxInterval_ticks}};
@@ -74,10 +74,13 @@ static_assert(kJointAccelLimit_crad_s2[0] * 10 <= kStepperAccel_crad_s2[0] * 9 &
                   kJointAccelLimit_crad_s2[4] * 10 <= kStepperAccel_crad_s2[1] * 9 &&
                   kJointAccelLimit_crad_s2[5] * 10 <= kStepperAccel_crad_s2[2] * 9,
               "a stepper's reference accelerates at most 90 % of its ramp's limit, or the ramp cannot catch up");
-static_assert(control::step_ramp_constants(steppers::kTickHz, kRampConfig[0]).status == control::RampStatus::ok &&
-                  control::step_ramp_constants(steppers::kTickHz, kRampConfig[1]).status == control::RampStatus::ok &&
-                  control::step_ramp_constants(steppers::kTickHz, kRampConfig[2]).status == control::RampStatus::ok,
-              "a stepper's acceleration or top speed does not fit its ramp (lib/control/step_ramp.h)");
+constexpr control::StepRateConstants ramp_constants(uint8_t i) {
+  return control::step_rate_constants(steppers::kTickHz, steppers::kServiceHz, kRampConfig[i]);
+}
+constexpr control::StepRateConstants kRampConstants[3] = {ramp_constants(0), ramp_constants(1), ramp_constants(2)};
+static_assert(kRampConstants[0].status == control::RateStatus::ok && kRampConstants[1].status == control::RateStatus::ok &&
+                  kRampConstants[2].status == control::RateStatus::ok,
+              "a stepper's acceleration or top speed does not fit its ramp (lib/control/step_rate.h)");
 
 // the DC joints' feedforward: effort (Q15 through a Unit) per rad/s of reference speed
 constexpr fx::Unit kDcFeedforward[3] = {fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[0]}), fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[1]}),
@@ -162,10 +165,10 @@ WMRA_COLD void drives_off() {
   steppers::kill();
   bridges::all_off();
   for (uint8_t i = 0; i < 3; ++i) {
-    steppers::Command c(i);
-    if (c.ramp().running()) g_homed = false;
-    c.ramp().halt();
-    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(c.ramp().position_steps()));
+    steppers::Rate& r = steppers::rate(i);
+    if (r.moving()) g_homed = false;
+    r.halt();
+    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(r.position_steps()));
   }
   for (uint8_t d = 0; d < 3; ++d) {
     g_servo[d].rest(g_dc_units[d]);
@@ -180,7 +183,7 @@ WMRA_COLD void drives_on() {
     g_q[kDcJoint[d]].set(g_pot[d].angle(g_dc_units[d]));
     g_dc_reference_units[d] = g_dc_units[d];
   }
-  for (uint8_t i = 0; i < 3; ++i) g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::ramp(i).position_steps()));
+  for (uint8_t i = 0; i < 3; ++i) g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::rate(i).position_steps()));
   steppers::enable_drivers(true);
 }
 
@@ -199,8 +202,7 @@ WMRA_COLD void begin_move(const int32_t* angles) {
     g_qd[j] = fx::Real{0};
   }
   for (uint8_t i = 0; i < 3; ++i) {
-    steppers::Command c(i);
-    c.ramp().move_to(kStepperMap[i].steps(g_target[kStepperJoint[i]]), (uint32_t)kMoveSpeed_steps_s[i]);
+    steppers::rate(i).move_to(kStepperMap[i].steps(g_target[kStepperJoint[i]]), (uint32_t)kMoveSpeed_steps_s[i]);
   }
   g_at_target = false;
 }
@@ -217,7 +219,7 @@ constexpr int32_t kMoveStepPerTick[3] = {move_step_per_tick(kDcJoint[0]), move_s
 WMRA_COLD void move_tick() {
   bool arrived = true;
   for (uint8_t i = 0; i < 3; ++i) {
-    const int32_t position = steppers::ramp(i).position_steps();
+    const int32_t position = steppers::rate(i).position_steps();
     g_q[kStepperJoint[i]].set(kStepperMap[i].angle(position));
     if (steppers::running(i) || position != kStepperMap[i].steps(g_target[kStepperJoint[i]])) arrived = false;
   }
@@ -241,13 +243,10 @@ WMRA_COLD void move_tick() {
 WMRA_COLD void homing_tick(uint16_t switches) {
   bool all_done = true;
   for (uint8_t i = 0; i < 3; ++i) {
-    {
-      steppers::Command c(i);
-      g_homing[i].update((switches & kHomingSwitch[i]) != 0, steppers::running(i), c.ramp());
-    }
+    g_homing[i].update((switches & kHomingSwitch[i]) != 0, steppers::running(i), steppers::rate(i));
     if (g_homing[i].failed()) g_faults |= core::fault_mask(core::kFaultBitHomingFailed);
     if (!g_homing[i].done()) all_done = false;
-    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::ramp(i).position_steps()));
+    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::rate(i).position_steps()));
   }
   g_homed = all_done;
 }
@@ -368,10 +367,9 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   }
   for (uint8_t i = 0; i < 3; ++i) {
     const uint8_t j = kStepperJoint[i];
-    const int32_t error = kStepperMap[i].steps(g_q[j].angle) - steppers::ramp(i).position_steps();
+    const int32_t error = kStepperMap[i].steps(g_q[j].angle) - steppers::rate(i).position_steps();
     const int32_t speed = core::tracking_speed_steps_s(kTracking[i], kStepperMap[i].speed_steps_s(g_qd[j]), error);
-    steppers::Command c(i);
-    c.ramp().set_speed(speed);
+    steppers::rate(i).set_speed(speed);
   }
 }
 
@@ -523,8 +521,7 @@ WMRA_COLD void configure(Settings& settings) {
   g_button.configure(control::ButtonConfig{kButtonDebounce_ms, kButtonLongPress_ms});
 
   for (uint8_t i = 0; i < 3; ++i) {
-    steppers::Command c(i);
-    c.ramp().configure(kRampConfig[i]);
+    steppers::rate(i).configure(kRampConstants[i]);
     g_homing[i].configure(kHomingConfig[i]);
   }
 
@@ -651,7 +648,7 @@ void iterate(Requests& rq, uint8_t ticks) {
 
 WMRA_COLD const Status& status() {
   for (uint8_t i = 0; i < 3; ++i)
-    g_status.q_measured[kStepperJoint[i]] = kStepperMap[i].angle(steppers::ramp(i).position_steps());
+    g_status.q_measured[kStepperJoint[i]] = kStepperMap[i].angle(steppers::rate(i).position_steps());
   for (uint8_t d = 0; d < 3; ++d) g_status.q_measured[kDcJoint[d]] = g_pot[d].angle(g_dc_units[d]);
   for (uint8_t j = 0; j < 6; ++j) {
     g_status.q_ref[j] = g_q[j].angle;

@@ -20,8 +20,8 @@ constexpr int16_t kStepperAccel_crad_s2[3] = {60, 400, 400};
 // the shortest step interval, Timer5 ticks of 4 us: 12.5 ticks, 20 kHz (the ramp carries the
 // fraction)
 constexpr uint16_t kStepMinInterval_ticks = 12;
-// the longest: slower commands are a stop (20 steps/s), so a new command never waits more than
-// 50 ms behind a creeping step (lib/control/step_ramp.h)
+// the longest: slower commands are a stop (20 steps/s), so a stop never waits more than 50 ms
+// behind a creeping step (lib/control/step_rate.h)
 constexpr uint16_t kStepMaxInterval_ticks = 12500;
 // position loop of a stepper around its reference: speed += gain x (reference - position), at
 // most sqrt(accel x |error|) (firmware/core/stepper_tracking.h)

@@ -1,52 +1,45 @@
 // Step generation for the three stepper joints on Timer5's compare outputs (OC5A/B/C).
 //
-// Timer5 runs free at 250 kHz (4 us ticks: slow enough that the first step of J1's gentle
-// ramp, sqrt(2/a) = 40 ms, fits the 16-bit compare register; fast enough for 20 kHz). Each
-// channel's compare unit toggles its STEP pin high at the exact tick (hardware timing, no
-// jitter); the compare interrupt then asks the channel's ramp for the next step, toggles the
-// pin back low with a forced compare (the pulse lasts the ISR's entry plus the ramp call:
-// > 5 us, above the DRV8825's 1.9 us), sets DIR and schedules the next rising edge relative to
-// the last one, so rounding never accumulates. One interrupt per step.
-// An edge that the ISR could not schedule in time (another ISR held it) goes out late rather
-// than being lost: the next compare is never set behind the counter.
+// Timer5 runs free at 250 kHz (4 us ticks: the slowest step, 50 ms, fits the 16-bit compare
+// register; fast enough for 20 kHz). Each channel's compare unit toggles its STEP pin high at
+// the exact tick (hardware timing, no jitter); the compare interrupt toggles it back low with a
+// forced compare, counts the step and schedules the next edge one interval (Q8 ticks, the
+// fraction carried) after the last, so rounding never accumulates. Nothing else: no ramp maths
+// in the ISR (three channels at 20 kHz are 60,000 edges a second).
 //
-// The ramps (lib/control/step_ramp.h) are commanded from the main loop inside a Command scope:
-// interrupts are off for its few hundred cycles (all of them, not just the channel's: an
-// interrupt unmasked with its flag already set is not taken by simavr 1.6, and the step ISRs
-// themselves run that long), and an idle channel is restarted at its end.
+// The speed ramps (lib/control/step_rate.h) run in the main loop: service() once per control
+// iteration counts the steps each channel made, moves each ramp's speed by at most a dt and
+// hands the ISR the new interval and the steps left before it stops (a position move stops on
+// its target in the ISR). Commands (rate(i).set_speed, move_to, stop) take effect at the next
+// service(). An edge once scheduled keeps its time; a new interval applies from the edge after.
+// An edge the ISR could not schedule in time (another ISR held it) goes out late rather than
+// being lost.
 #pragma once
 
 #include <stdint.h>
 
-#include "control/step_ramp.h"
+#include "control/step_rate.h"
 
 namespace wmra {
 namespace steppers {
 
 constexpr uint32_t kTickHz = 250000;
-using Ramp = control::StepRamp<kTickHz>;
+constexpr uint16_t kServiceHz = 1000;  // service() once per 1 kHz control tick (system_tick)
+using Rate = control::StepRate<kTickHz, kServiceHz>;
 constexpr uint8_t kCount = 3;  // J1, J5, J6
 
 void start();  // pins low, drivers disabled, timer running, no steps
-void enable_drivers(bool on);  // DRV8825 EN (active low) of all three
+// DRV8825 EN (active low) of all three. On: the ramps halted (at rest) and service() re-armed.
+void enable_drivers(bool on);
 // From any context, also an ISR: no more edges (STEP low, interrupts off), drivers disabled.
-// The ramps are untouched; the main loop halts them when it sees the stop.
+// service() then only counts the steps made: the ramps keep their speeds (the main loop sees
+// which were moving, and halts them) and nothing is started until enable_drivers(true).
 void kill();
-bool running(uint8_t i);
-Ramp& ramp(uint8_t i);  // read freely; change only inside a Command
-
-class Command {
- public:
-  explicit Command(uint8_t i);
-  ~Command();  // starts the channel if it was idle and its ramp wants a step; interrupts back on
-  Ramp& ramp();
-  Command(const Command&) = delete;
-  Command& operator=(const Command&) = delete;
-
- private:
-  uint8_t i_;
-  uint8_t sreg_;
-};
+bool running(uint8_t i);  // channel i has an edge scheduled
+Rate& rate(uint8_t i);    // main loop only (the ISR never reads it)
+// Once per control iteration, `ticks` control periods after the last: steps made counted into
+// the ramps' positions, the ramps advanced, the ISRs given their new intervals.
+void service(uint8_t ticks);
 
 }  // namespace steppers
 }  // namespace wmra

@@ -41,6 +41,10 @@ struct ArmSimulator::Compare {
   bool oc = false;
   // the last high pulse made by compare events (toggle, set, clear), as the pin showed it
   uint64_t rise_cycle = 0, fall_cycle = 0, pulse_cycles = 0;
+  // the last compare match (simavr 1.6 can report one twice: see on_compare)
+  bool matched = false;
+  uint16_t match_ocr = 0;
+  uint64_t match_cycle = 0;
 };
 
 struct ArmSimulator::Stepper {
@@ -420,11 +424,22 @@ void ArmSimulator::on_compare(avr_irq_t*, uint32_t value, void* param) {
   const avr_t* avr = c->sim->core_->avr();
   const m2560::TimerSnapshot t = snapshot(avr, c->pin.timer);
   if (m2560::compare_pin_drive(t, c->pin.channel).source == m2560::PinDrive::Source::events) {
+    // simavr 1.6 reschedules every compare of a timer on any OCRnx write, and a compare that
+    // matched earlier in the same timer count fires again: another channel's OCR write within
+    // 64 cycles of a step edge toggled that STEP pin a second time (2 cycles after its rise),
+    // and the pin ran inverted until the next such coincidence (the 20 kHz budget test: 125 ns
+    // pulses and an extra step). The chip matches once per count: the repeat is dropped.
+    static constexpr uint16_t kPrescale[8] = {0, 1, 8, 64, 256, 1024, 0, 0};
+    const uint64_t now = c->sim->core_->cycle();
+    const uint16_t ocr = t.ocr[(int)c->pin.channel];
+    if (c->matched && ocr == c->match_ocr && now - c->match_cycle < kPrescale[t.tccrb & 7]) return;
+    c->matched = true;
+    c->match_ocr = ocr;
+    c->match_cycle = now;
     // the chip's OCnx: toggle, clear or set on the match (COM = 1, 2, 3)
     const int com = (t.tccra >> m2560::com_shift(c->pin.channel)) & 3;
     const bool was = c->oc;
     c->oc = com == 1 ? !c->oc : com == 3;
-    const uint64_t now = c->sim->core_->cycle();
     if (c->oc && !was) c->rise_cycle = now;
     if (!c->oc && was) {
       c->pulse_cycles = now - c->rise_cycle;

@@ -1,0 +1,306 @@
+// The speed ramp of a timer-driven stepper, run once per control tick (constant-rate segments,
+// as grbl does, one segment per tick): the step ISR only repeats the interval handed to it and
+// counts the steps it makes; this decides that interval.
+//
+// Each tick the speed v moves towards the wanted speed by at most a dt:
+//   speed command   wanted = the command (|command| below the slowest speed: 0)
+//   position move   towards the target (d = target - steps made): v + a dt (at most v_cmd)
+//                   if it can still brake on the target after this tick (u (u + a dt) <= 2 a |d|,
+//                   no root), else v - a dt
+// and v changes sign only through 0, and only once the channel has made its last step the
+// other way. The interval is kTickHz / v in Q8 timer ticks (the ISR carries the fraction),
+// from a table reciprocal (no division at run time); |v| below the slowest speed (the longest
+// interval) makes no steps. A position move hands the ISR the steps left, |d|: it stops the
+// channel on the target itself (exact arrival, no overshoot, whatever the tick's rounding).
+//
+// Why per tick and not per step: the per-step ramp (the old step_ramp.h) took up to ~2,000
+// cycles in the step ISR; three steppers at 20 kHz are 60,000 edges a second, so the ISR must
+// stay near 100 cycles and the maths must run 1,000 times a second, not 60,000.
+//
+// Speeds are Q8 steps/s (int32), intervals Q8 ticks (uint32, below 2^24).
+#pragma once
+
+#include <stdint.h>
+
+#include "control/control_math.h"
+#include "kinematics/reciprocal.h"
+
+namespace wmra {
+namespace control {
+
+enum class RateStatus : uint8_t {
+  ok = 0,
+  accel_not_positive,    // a <= 0
+  accel_too_low,         // less than 1/256 step/s of speed change per control tick
+  accel_too_high,        // a 256 / tick rate overflows, or one tick's change exceeds the top speed
+  min_interval_invalid,  // outside [1, 65534] ticks, or its speed squared overflows 2^31
+  max_interval_invalid,  // not above the shortest interval, or above 65534 ticks
+  slowest_too_fast,      // v_min^2 > a/2: the jump from rest to the slowest speed v_min would be
+                         // more than half of constant acceleration's speed at its first step
+};
+
+struct StepRateConfig {
+  int32_t accel_steps_s2;       // acceleration limit
+  uint16_t min_interval_ticks;  // shortest interval the driver and motor allow (top speed)
+  // Longest interval: slower speeds are a stop. An edge once scheduled cannot be moved, so this
+  // bounds how long a new command can wait behind a slow step.
+  uint16_t max_interval_ticks;
+};
+
+struct StepRateConstants {
+  RateStatus status;
+  uint32_t dv_q8_per_tick;     // a / tick rate
+  int32_t v_max_q8;            // kTickHz / min_interval
+  int32_t v_min_q8;            // kTickHz / max_interval, rounded up: slower is no step
+  uint32_t min_interval_q8;
+  uint32_t max_interval_q8;
+  uint32_t two_a;              // 2 a, steps/s^2
+  uint32_t full_speed_steps;   // |d| from which any speed up to v_max can brake in time (1 tick)
+  uint32_t budget_saturation_steps;  // |d| from which 2 a |d| saturates 32 bits
+  int32_t one_step_brake_q8;   // sqrt(2 a): the braking curve one step from the target
+};
+
+constexpr StepRateConstants step_rate_constants(uint32_t tick_hz, uint16_t loop_hz, const StepRateConfig& c) {
+  StepRateConstants k{RateStatus::ok, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  if (c.accel_steps_s2 <= 0) {
+    k.status = RateStatus::accel_not_positive;
+    return k;
+  }
+  if (c.min_interval_ticks < 1 || c.min_interval_ticks > 65534) {
+    k.status = RateStatus::min_interval_invalid;
+    return k;
+  }
+  const uint32_t v_max = tick_hz / c.min_interval_ticks;  // steps/s
+  if ((uint64_t)v_max * v_max >= (1ull << 31) || (uint64_t)v_max * 256 > 0x7FFFFFFFull) {
+    k.status = RateStatus::min_interval_invalid;
+    return k;
+  }
+  if (c.max_interval_ticks <= c.min_interval_ticks || c.max_interval_ticks > 65534) {
+    k.status = RateStatus::max_interval_invalid;
+    return k;
+  }
+  const uint64_t dv = (uint64_t)c.accel_steps_s2 * 256 / loop_hz;
+  if (dv == 0) {
+    k.status = RateStatus::accel_too_low;
+    return k;
+  }
+  if (dv > (uint64_t)v_max * 256 || (uint64_t)c.accel_steps_s2 * 2 > 0x7FFFFFFFull) {
+    k.status = RateStatus::accel_too_high;
+    return k;
+  }
+  const uint64_t v_min_2 = ((uint64_t)tick_hz * tick_hz + (uint64_t)c.max_interval_ticks * c.max_interval_ticks - 1) /
+                         ((uint64_t)c.max_interval_ticks * c.max_interval_ticks);
+  if (2 * v_min_2 > (uint64_t)c.accel_steps_s2) {
+    k.status = RateStatus::slowest_too_fast;
+    return k;
+  }
+  k.dv_q8_per_tick = (uint32_t)dv;
+  k.v_max_q8 = (int32_t)(v_max * 256);
+  k.v_min_q8 = (int32_t)(((uint64_t)tick_hz * 256 + c.max_interval_ticks - 1) / c.max_interval_ticks);
+  k.min_interval_q8 = (uint32_t)c.min_interval_ticks << 8;
+  k.max_interval_q8 = (uint32_t)c.max_interval_ticks << 8;
+  k.two_a = (uint32_t)c.accel_steps_s2 * 2;
+  k.full_speed_steps = (uint32_t)((uint64_t)v_max * (v_max + dv / 256) / k.two_a + 1);
+  k.budget_saturation_steps = 0xFFFFFFFFu / k.two_a;
+  k.one_step_brake_q8 = (int32_t)(isqrt64((uint64_t)k.two_a << 16) + 1);
+  return k;
+}
+
+// What the step ISR gets for the next tick.
+struct StepPlan {
+  uint32_t interval_q8;  // 0: no step (the channel stops at its next edge)
+  uint16_t steps_left;   // the channel stops by itself after this many steps (0xFFFF: none near)
+};
+
+template <uint32_t kTickHz, uint16_t kLoopHz>
+class StepRate {
+ public:
+  static constexpr int32_t kPositionLimit = (int32_t)1 << 30;
+  static constexpr uint16_t kNoStop = 0xFFFF;
+
+  // Sets the limits and halts; the position count is kept. On an error the ramp keeps its
+  // previous limits (or, never configured, never moves). The constants come from
+  // step_rate_constants(kTickHz, kLoopHz, config), at compile time where the configuration is
+  // constant (at run time its 64-bit divisions take ~1 ms a ramp on the AVR).
+  RateStatus configure(const StepRateConstants& k) {
+    if (k.status != RateStatus::ok) return k.status;
+    k_ = k;
+    halt();
+    return RateStatus::ok;
+  }
+
+  // Run at a signed speed (steps/s), within the acceleration limit; below the slowest speed
+  // (|speed| < kTickHz / max_interval) it brakes to rest. Saturates at the top speed.
+  void set_speed(int32_t speed_steps_s) {
+    stopping_ = false;
+    want_q8_ = speed_q8(magnitude_u32(speed_steps_s));
+    if (speed_steps_s < 0) want_q8_ = -want_q8_;
+    has_target_ = false;
+  }
+  // Go to a position (steps) and stop there exactly, at most at max_speed_steps_s (a speed
+  // below the slowest one brakes to rest instead).
+  void move_to(int32_t target_steps, uint32_t max_speed_steps_s) {
+    const int32_t target = clamp_i32(target_steps, -kPositionLimit, kPositionLimit);
+    if (!has_target_ || target != target_) stopping_ = false;
+    target_ = target;
+    want_q8_ = speed_q8(max_speed_steps_s);
+    has_target_ = want_q8_ != 0;
+  }
+  // Brake to rest at the acceleration limit.
+  void stop() {
+    stopping_ = false;
+    want_q8_ = 0;
+    has_target_ = false;
+  }
+  // Forget the speed at once (the caller has cut the driver: e-stop, fault).
+  void halt() {
+    stop();
+    v_q8_ = 0;
+  }
+
+  // The steps the channel made since the last count (signed: in its direction).
+  void count_steps(int32_t steps) { position_ += steps; }
+  // Sets the position count (homing). Only at rest.
+  bool set_position(int32_t steps) {
+    if (v_q8_ != 0) return false;
+    position_ = clamp_i32(steps, -kPositionLimit, kPositionLimit);
+    return true;
+  }
+
+  // One control tick of `ticks` loop periods: the new speed and what the ISR does with it.
+  // stepping_dir: the direction of the edge the channel still has scheduled (0: stopped); the
+  // speed leaves 0 the other way only once that edge is made.
+  StepPlan plan(uint8_t ticks, int8_t stepping_dir) {
+    // < 2^31: accel_too_high bounds it (one tick without the product: the usual case)
+    const int32_t dv = (int32_t)(ticks == 1 ? k_.dv_q8_per_tick : k_.dv_q8_per_tick * ticks);
+    int32_t v = v_q8_;
+    int32_t want = want_q8_;
+    uint16_t steps_left = kNoStop;
+    if (has_target_) {
+      const int32_t to_go = target_ - position_;  // both within +-2^30
+      const uint32_t d = magnitude_u32(to_go);
+      if (d == 0 && stepping_dir == 0) {
+        v_q8_ = 0;  // stopped on the target (by the ISR's count): at rest there
+        return StepPlan{0, 0};
+      }
+      // Stopped by the ISR on the target when it can brake there (with a slack of the
+      // tracking's 2 a dt and sqrt(2 a), the braking curve's speed one step out); once so,
+      // it goes on (near the target the curve falls faster than a dt a tick). Faster (a new
+      // target close ahead) it brakes at the limit, passes the target and comes back.
+      const bool toward = d != 0 && (v == 0 || (v > 0) == (to_go > 0));
+      const uint32_t speed = magnitude_u32(v);
+      const uint32_t slack = (uint32_t)(2 * dv + k_.one_step_brake_q8);
+      if (toward && (stopping_ || speed <= slack || can_brake_in(speed - slack, dv_steps_s(dv), brake_budget(d)))) {
+        stopping_ = true;
+        steps_left = d > kNoStop ? kNoStop : (uint16_t)d;  // the ISR stops on the target itself
+        want = approach_speed(speed, (uint32_t)want, d, dv, ticks);
+      } else {
+        stopping_ = false;
+        if (toward || d == 0) want = 0;
+      }
+      if (to_go < 0) want = -want;
+    } else if ((want > 0 && position_ >= kPositionLimit) || (want < 0 && position_ <= -kPositionLimit)) {
+      want = 0;  // the count saturates, never wraps (15 hours at 20 kHz from zero)
+    }
+    if ((v > 0 && want < 0) || (v < 0 && want > 0)) want = 0;  // reversals through rest
+    if (v == 0 && ((stepping_dir > 0 && want < 0) || (stepping_dir < 0 && want > 0))) want = 0;
+    if (want > v) {
+      v = want - v > dv ? v + dv : want;
+    } else {
+      v = v - want > dv ? v - dv : want;
+    }
+    // below the slowest speed no steps are made: the speed jumps over that band, from rest to
+    // the slowest speed and back (at most half the speed constant acceleration has at its
+    // first step, sqrt(2 a): step_rate_constants checks it)
+    if (magnitude_u32(v) < (uint32_t)k_.v_min_q8) v = want >= k_.v_min_q8 ? k_.v_min_q8 : want <= -k_.v_min_q8 ? -k_.v_min_q8 : 0;
+    if (v == 0) {
+      v_q8_ = 0;
+      return StepPlan{0, 0};
+    }
+    if (v != v_q8_) interval_q8_ = interval_q8(magnitude_u32(v));  // at a steady speed: the last one
+    v_q8_ = v;
+    return StepPlan{interval_q8_, steps_left};
+  }
+
+  int32_t position_steps() const { return position_; }
+  int32_t speed_q8() const { return v_q8_; }
+  bool moving() const { return v_q8_ != 0; }
+  const StepRateConstants& constants() const { return k_; }
+
+  // kTickHz 256 / (speed_q8 / 256), for speeds in [v_min, v_max]: the table reciprocal of
+  // kinematics/reciprocal.h. speed = M 2^(e-16) with M in [2^15, 2^16): 2^31 / M is the
+  // table's 1/(2m); then kTickHz 2^16 / speed = (kTickHz 2^8) (2^31/M) 2^(-7-e)
+  __attribute__((always_inline)) uint32_t interval_q8(uint32_t speed_q8) const {
+    uint8_t e = 32;
+    uint32_t v = speed_q8;
+    while (v < (1ul << 24)) {  // whole bytes first (a byte move on the AVR)
+      v <<= 8;
+      e = (uint8_t)(e - 8);
+    }
+    while (!(v & 0x80000000u)) {
+      v <<= 1;
+      --e;
+    }
+    const uint16_t h = fx::half_reciprocal_uq16(fx::hi16(v));
+    uint32_t p = mul_hi_u32xu16(kTickHz << 8, h);  // kTickHz 2^8 h / 2^16
+    static_assert(kTickHz < (1ul << 24), "kTickHz 2^8 fits 32 bits");
+    if (e >= 17) {
+      p >>= 8;
+      e = (uint8_t)(e - 8);
+    }
+    for (uint8_t i = 9; i < e; ++i) p >>= 1;
+    for (uint8_t i = e; i < 9; ++i) p <<= 1;
+    if (p < k_.min_interval_q8) return k_.min_interval_q8;
+    return p > k_.max_interval_q8 ? k_.max_interval_q8 : p;
+  }
+
+ private:
+  // |speed| steps/s as Q8, within the top speed; below the slowest speed, 0
+  int32_t speed_q8(uint32_t speed_steps_s) const {
+    const uint32_t vmax = (uint32_t)k_.v_max_q8 >> 8;
+    const int32_t q8 = (int32_t)((speed_steps_s > vmax ? vmax : speed_steps_s) << 8);
+    return q8 < k_.v_min_q8 ? 0 : q8;
+  }
+
+  // Braking from u after this tick, a dt less each tick, stops within d steps: the tick at
+  // u, then u - a dt, ... covers u^2 / (2a) + u dt / 2, so u (u + a dt) <= 2 a d (steps/s;
+  // products below 2^32: u <= v_max, a dt capped at v_max, v_max^2 < 2^31).
+  static bool can_brake_in(uint32_t speed_q8, uint32_t dv_steps_s, uint32_t budget) {
+    const uint32_t u = speed_q8 >> 8;
+    return u * (u + dv_steps_s) <= budget;
+  }
+  uint32_t brake_budget(uint32_t d) const { return d >= k_.budget_saturation_steps ? 0xFFFFFFFFu : k_.two_a * d; }
+  uint32_t dv_steps_s(int32_t dv_q8) const {
+    const uint32_t dv = (uint32_t)dv_q8 >> 8, v_max = (uint32_t)k_.v_max_q8 >> 8;
+    return dv > v_max ? v_max : dv;
+  }
+  // A position move's speed for this tick (magnitude, Q8): up by a dt (to the command) if it
+  // can still brake on the target after it, else down by a dt; never below the slowest speed
+  // (it would stall short of the target).
+  uint32_t approach_speed(uint32_t speed, uint32_t command, uint32_t d, int32_t dv, uint8_t ticks) const {
+    uint32_t up = speed + (uint32_t)dv;
+    if (up > command) up = command;
+    uint32_t next = up;
+    if (!(ticks == 1 && d >= k_.full_speed_steps) && !can_brake_in(up, dv_steps_s(dv), brake_budget(d))) {
+      next = speed > (uint32_t)dv ? speed - (uint32_t)dv : 0;
+    }
+    return next < (uint32_t)k_.v_min_q8 ? (uint32_t)k_.v_min_q8 : next;
+  }
+
+  StepRateConstants k_{RateStatus::ok, 0, 0, 0x7FFFFFFF, 0, 0, 0, 0, 0, 0};  // not configured: no speed is fast enough
+  int32_t want_q8_ = 0;
+  bool has_target_ = false;
+  bool stopping_ = false;  // the ISR has the target's steps left
+  int32_t target_ = 0;
+  int32_t position_ = 0;
+  int32_t v_q8_ = 0;
+  uint32_t interval_q8_ = 0;  // for v_q8_ (when not 0)
+};
+
+template <uint32_t kTickHz, uint16_t kLoopHz>
+constexpr int32_t StepRate<kTickHz, kLoopHz>::kPositionLimit;
+template <uint32_t kTickHz, uint16_t kLoopHz>
+constexpr uint16_t StepRate<kTickHz, kLoopHz>::kNoStop;
+
+}  // namespace control
+}  // namespace wmra

@@ -1,0 +1,313 @@
+// The per-tick speed ramp of the step driver (lib/control/step_rate.h), with a model of the
+// driver's step ISR (lib/drivers/steppers.cpp: edges one Q8 interval apart, a count of steps
+// left after which the channel stops, a new interval from the edge after the scheduled one):
+// acceleration never above the limit, exact arrival without overshoot, reversals through rest,
+// speeds below the slowest one a stop, garbage commands saturated.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "control/step_rate.h"
+
+using namespace wmra::control;
+
+namespace {
+
+constexpr uint32_t kTickHz = 250000;  // Timer5
+constexpr uint16_t kLoopHz = 1000;
+constexpr int64_t kMinLeadTicks = 2, kRetimeMarginTicks = 4;  // steppers.cpp
+constexpr int64_t kTicksPerLoop_q8 = (int64_t)kTickHz / kLoopHz * 256;
+using Rate = StepRate<kTickHz, kLoopHz>;
+StepRateConstants constants(const StepRateConfig& c) { return step_rate_constants(kTickHz, kLoopHz, c); }
+
+// The firmware's J1 and J6 ramps (firmware/config/joints_config.h) and the 20 kHz budget test's
+constexpr StepRateConfig kJ1{1222, 12, 12500};
+constexpr StepRateConfig kJ6{8149, 12, 12500};
+constexpr StepRateConfig kFast{100000, 12, 12500};
+
+// The driver with its ISR, in Q8 timer ticks. service() is steppers::service for one channel.
+struct Channel {
+  Rate rate;
+  bool running = false;
+  int8_t dir = 0;
+  int64_t next_edge_q8 = 0;
+  uint32_t interval_q8 = 0;
+  uint32_t left = 0;
+  int64_t now_q8 = 0;
+  int64_t position = 0;             // steps made, as the motor sees them
+  std::vector<int64_t> edge_times;  // of every step, Q8 ticks
+  std::vector<int8_t> edge_dirs;
+
+  // one control period of the ISR's edges, then the service
+  void tick(uint8_t ticks = 1) {
+    const int64_t end = now_q8 + ticks * kTicksPerLoop_q8;
+    int32_t made = 0;
+    while (running && next_edge_q8 < end) {
+      made += dir;
+      edge_times.push_back(next_edge_q8);
+      edge_dirs.push_back(dir);
+      if (--left == 0) {
+        running = false;
+      } else {
+        next_edge_q8 += interval_q8;
+      }
+    }
+    now_q8 = end;
+    position += made;
+    rate.count_steps(made);
+    const StepPlan p = rate.plan(ticks, running ? dir : 0);
+    uint32_t l = p.interval_q8 == 0 ? 1 : p.steps_left;
+    if (running) {
+      left = l;
+      if (p.interval_q8 != 0 && (p.interval_q8 >> 8) != (interval_q8 >> 8) && (interval_q8 >> 8) > kTicksPerLoop_q8 / 256 &&
+          next_edge_q8 >= now_q8 + (kRetimeMarginTicks << 8)) {  // the edge retimed
+        next_edge_q8 += ((int64_t)(p.interval_q8 >> 8) - (int64_t)(interval_q8 >> 8)) << 8;
+        if (next_edge_q8 < now_q8 + (kMinLeadTicks << 8)) next_edge_q8 = now_q8 + (kMinLeadTicks << 8);
+      }
+      if (p.interval_q8 != 0) interval_q8 = p.interval_q8;
+    } else if (p.interval_q8 != 0) {
+      running = true;
+      dir = rate.speed_q8() > 0 ? 1 : -1;
+      left = l;
+      interval_q8 = p.interval_q8;
+      next_edge_q8 = now_q8 + (p.interval_q8 >> 8 << 8);
+    }
+  }
+};
+
+double speed_steps_s(const Rate& r) { return r.speed_q8() / 256.0; }
+
+TEST(StepRate, ConfigurationRefusesGarbage) {
+  static_assert(step_rate_constants(kTickHz, kLoopHz, kJ1).status == RateStatus::ok, "J1");
+  EXPECT_EQ(step_rate_constants(kTickHz, kLoopHz, {0, 12, 12500}).status, RateStatus::accel_not_positive);
+  EXPECT_EQ(step_rate_constants(kTickHz, kLoopHz, {-5, 12, 12500}).status, RateStatus::accel_not_positive);
+  EXPECT_EQ(step_rate_constants(kTickHz, kLoopHz, {1000, 0, 12500}).status, RateStatus::min_interval_invalid);
+  EXPECT_EQ(step_rate_constants(kTickHz, kLoopHz, {1000, 1, 12500}).status, RateStatus::min_interval_invalid);  // 250 kHz
+  EXPECT_EQ(step_rate_constants(kTickHz, kLoopHz, {1000, 12, 12}).status, RateStatus::max_interval_invalid);
+  EXPECT_EQ(step_rate_constants(kTickHz, kLoopHz, {1000, 12, 65535}).status, RateStatus::max_interval_invalid);
+  EXPECT_EQ(step_rate_constants(kTickHz, kLoopHz, {3, 12, 65000}).status, RateStatus::accel_too_low);
+  EXPECT_EQ(step_rate_constants(kTickHz, kLoopHz, {2000000000, 12, 12500}).status, RateStatus::accel_too_high);
+  // 20 steps/s from rest is a jump unless a >= 2 x 20^2
+  EXPECT_EQ(step_rate_constants(kTickHz, kLoopHz, {799, 12, 12500}).status, RateStatus::slowest_too_fast);
+  EXPECT_EQ(step_rate_constants(kTickHz, kLoopHz, {800, 12, 12500}).status, RateStatus::ok);
+  Rate r;
+  EXPECT_EQ(r.configure(constants(kJ1)), RateStatus::ok);
+  EXPECT_EQ(r.configure(constants(StepRateConfig{0, 12, 12500})), RateStatus::accel_not_positive);
+  EXPECT_EQ(r.constants().dv_q8_per_tick, step_rate_constants(kTickHz, kLoopHz, kJ1).dv_q8_per_tick);  // kept
+  Channel never;  // not configured: never steps
+  never.rate.set_speed(1000);
+  never.rate.move_to(500, 1000);
+  for (int k = 0; k < 100; ++k) never.tick();
+  EXPECT_EQ(never.position, 0);
+}
+
+TEST(StepRate, IntervalIsTheSpeedsReciprocal) {
+  Rate r;
+  ASSERT_EQ(r.configure(constants(kFast)), RateStatus::ok);
+  const StepRateConstants& k = r.constants();
+  double worst = 0;
+  for (uint32_t v = (uint32_t)k.v_min_q8; v <= (uint32_t)k.v_max_q8; v += 1 + v / 1013) {
+    const double exact = kTickHz * 65536.0 / v;
+    worst = std::max(worst, (std::fabs(r.interval_q8(v) - exact) - 1) / exact);  // beyond the Q8 LSB
+  }
+  EXPECT_LT(worst, 4e-5);  // the reciprocal table's UQ16 entries: 2^-15 at worst
+  EXPECT_EQ(r.interval_q8((uint32_t)k.v_max_q8), 12u << 8);
+  EXPECT_EQ(r.interval_q8((uint32_t)k.v_min_q8), 12500u << 8);
+}
+
+// Per tick the speed changes by at most a dt, except the jump across the band below the slowest
+// speed (rest <-> the slowest speed), which makes no steps, and the stop on a target (from the
+// braking curve one step out, sqrt(2 a), with the tracking's lag: step_rate.h's `stoppable`).
+void expect_acceleration_within_limit(const std::vector<double>& v, const StepRateConstants& k, uint8_t ticks) {
+  const double dv = k.dv_q8_per_tick / 256.0 * ticks;
+  const double v_min = k.v_min_q8 / 256.0;
+  const double one_step = k.one_step_brake_q8 / 256.0;
+  const double arrival = std::max(v_min, one_step) + 2 * dv + one_step;
+  for (size_t n = 1; n < v.size(); ++n) {
+    const double change = std::fabs(v[n] - v[n - 1]);
+    const bool stop = v[n] == 0 && std::fabs(v[n - 1]) <= std::max(v_min + dv, arrival);
+    const bool start = v[n - 1] == 0 && std::fabs(v[n]) == v_min;
+    if (!stop && !start) {
+      ASSERT_LE(change, dv + 1e-9) << "tick " << n << ": " << v[n - 1] << " -> " << v[n];
+    }
+  }
+}
+
+TEST(StepRate, AccelerationNeverAboveTheLimit) {
+  std::mt19937 rng(7);
+  for (const StepRateConfig& c : {kJ1, kJ6, kFast}) {
+    for (uint8_t ticks : {1, 3}) {
+      Channel ch;
+      ASSERT_EQ(ch.rate.configure(constants(c)), RateStatus::ok);
+      std::uniform_int_distribution<int32_t> speed(-25000, 25000), hold(1, 400);
+      std::vector<double> v;
+      for (int cmd = 0; cmd < 60; ++cmd) {
+        const int32_t s = speed(rng);
+        const bool move = cmd % 3 == 2;
+        const int32_t target = (int32_t)ch.position + s / 4;
+        for (int n = hold(rng); n > 0; --n) {
+          if (move) {
+            ch.rate.move_to(target, (uint32_t)std::abs(s));
+          } else {
+            ch.rate.set_speed(s);
+          }
+          ch.tick(ticks);
+          v.push_back(speed_steps_s(ch.rate));
+        }
+      }
+      expect_acceleration_within_limit(v, ch.rate.constants(), ticks);
+      // and from the steps themselves: the step counts of neighbouring 20 ms windows differ by
+      // at most a T^2, plus the counts' rounding (2) and the jump to the slowest speed
+      const double window_s = 0.02;
+      const int64_t window_q8 = (int64_t)(window_s * kTickHz * 256);
+      std::vector<double> counts(ch.now_q8 / window_q8 + 1, 0.0);
+      for (int64_t t : ch.edge_times) counts[t / window_q8] += 1;
+      const double bound = c.accel_steps_s2 * window_s * window_s + 2 + ch.rate.constants().v_min_q8 / 256.0 * window_s;
+      for (size_t w = 1; w + 1 < counts.size(); ++w) ASSERT_LE(std::fabs(counts[w] - counts[w - 1]), bound) << "window " << w;
+    }
+  }
+}
+
+TEST(StepRate, PositionMovesArriveExactlyWithoutOvershoot) {
+  std::mt19937 rng(3);
+  for (const StepRateConfig& c : {kJ1, kJ6, kFast}) {
+    Channel ch;
+    ASSERT_EQ(ch.rate.configure(constants(c)), RateStatus::ok);
+    std::uniform_int_distribution<int32_t> dist(-30000, 30000);
+    std::uniform_int_distribution<uint32_t> vmax(50, 30000);
+    for (int m = 0; m < 12; ++m) {
+      const int32_t target = (int32_t)ch.position + dist(rng) / (c.accel_steps_s2 < 5000 ? 10 : 1);
+      const uint32_t v = vmax(rng);
+      const int64_t from = ch.position;
+      const int8_t sense = target > from ? 1 : -1;
+      int n = 0;
+      do {
+        ch.rate.move_to(target, v);
+        ch.tick();
+        ASSERT_LE(sense * (ch.position - target), 0) << "overshoot";
+        ASSERT_LT(++n, 200000);
+      } while (ch.running || ch.position != target);
+      EXPECT_EQ(ch.position, target);
+      EXPECT_EQ(ch.rate.position_steps(), target);
+      EXPECT_FALSE(ch.rate.moving());
+    }
+  }
+}
+
+TEST(StepRate, ArrivalSpeedIsSmall) {
+  // the last interval before the target: the step rate braked to within a few a dt
+  Channel ch;
+  ASSERT_EQ(ch.rate.configure(constants(kFast)), RateStatus::ok);
+  for (int n = 0; ch.running || ch.position != 20000; ++n) {
+    ASSERT_LT(n, 5000) << "no arrival";
+    ch.rate.move_to(20000, 20000);
+    ch.tick();
+  }
+  const size_t n = ch.edge_times.size();
+  ASSERT_GT(n, 2u);
+  const double last_rate = kTickHz * 256.0 / (double)(ch.edge_times[n - 1] - ch.edge_times[n - 2]);
+  // sqrt(2 a) is the braking curve's speed one step out
+  EXPECT_LT(last_rate, 3 * std::sqrt(2.0 * kFast.accel_steps_s2) + 2 * kFast.accel_steps_s2 / 1000.0);
+}
+
+TEST(StepRate, ReversalOnlyThroughRest) {
+  for (const StepRateConfig& c : {kJ1, kFast}) {
+    Channel ch;
+    ASSERT_EQ(ch.rate.configure(constants(c)), RateStatus::ok);
+    std::vector<double> v;
+    for (int n = 0; n < 4000; ++n) {
+      ch.rate.set_speed(n < 1000 ? 1000 : -1000);
+      ch.tick(n % 7 == 0 ? 5 : 1);
+      v.push_back(speed_steps_s(ch.rate));
+    }
+    bool seen_rest = false, reversed = false;
+    for (size_t n = 1; n < v.size(); ++n) {
+      ASSERT_FALSE(v[n] < 0 && v[n - 1] > 0) << "speed changed sign without rest at " << n;
+      if (v[n] == 0) seen_rest = true;
+      if (v[n] < 0) reversed = seen_rest;
+    }
+    EXPECT_TRUE(reversed);
+    // the steps: once negative, never positive again, and the direction changed only while stopped
+    size_t first_negative = 0;
+    while (first_negative < ch.edge_dirs.size() && ch.edge_dirs[first_negative] > 0) ++first_negative;
+    ASSERT_LT(first_negative, ch.edge_dirs.size());
+    for (size_t n = first_negative; n < ch.edge_dirs.size(); ++n) ASSERT_LT(ch.edge_dirs[n], 0);
+    // and not sooner than the slowest interval after the last positive step (the channel stopped)
+    EXPECT_GE(ch.edge_times[first_negative] - ch.edge_times[first_negative - 1], (int64_t)c.min_interval_ticks << 8);
+  }
+}
+
+TEST(StepRate, SpeedsBelowTheSlowestAreAStop) {
+  Channel ch;
+  ASSERT_EQ(ch.rate.configure(constants(kJ6)), RateStatus::ok);
+  const int32_t slowest = (ch.rate.constants().v_min_q8 + 255) / 256;  // 20 steps/s
+  for (int n = 0; n < 2000; ++n) {
+    ch.rate.set_speed(n % 2 ? slowest - 1 : -(slowest - 1));
+    ch.tick();
+  }
+  EXPECT_EQ(ch.position, 0);
+  EXPECT_FALSE(ch.rate.moving());
+  // from speed: a command below the slowest brakes to rest
+  for (int n = 0; n < 500; ++n) {
+    ch.rate.set_speed(3000);
+    ch.tick();
+  }
+  EXPECT_NEAR(speed_steps_s(ch.rate), 3000, 1);
+  for (int n = 0; n < 1000; ++n) {
+    ch.rate.set_speed(slowest - 1);
+    ch.tick();
+  }
+  EXPECT_FALSE(ch.rate.moving());
+  EXPECT_FALSE(ch.running);
+  const int64_t at_rest = ch.position;
+  for (int n = 0; n < 200; ++n) ch.tick();
+  EXPECT_EQ(ch.position, at_rest);
+  // and a position move slower than the slowest speed does not start
+  ch.rate.move_to((int32_t)at_rest + 100, (uint32_t)slowest - 1);
+  for (int n = 0; n < 200; ++n) ch.tick();
+  EXPECT_EQ(ch.position, at_rest);
+}
+
+TEST(StepRate, GarbageCommandsSaturate) {
+  Channel ch;
+  ASSERT_EQ(ch.rate.configure(constants(kFast)), RateStatus::ok);
+  const double v_max = kTickHz / 12.0;
+  for (int32_t s : {INT32_MAX, INT32_MIN, INT32_MIN + 1, 2000000000}) {
+    for (int n = 0; n < 400; ++n) {
+      ch.rate.set_speed(s);
+      ch.tick();
+      ASSERT_LE(std::fabs(speed_steps_s(ch.rate)), std::floor(v_max) + 1e-9);
+    }
+  }
+  // a move to the far end at any speed: the top speed, the target clamped to +-2^30
+  ch.rate.move_to(INT32_MAX, UINT32_MAX);
+  for (int n = 0; n < 400; ++n) ch.tick();
+  EXPECT_NEAR(speed_steps_s(ch.rate), std::floor(v_max), 1);
+  for (size_t n = 1; n < ch.edge_times.size(); ++n) ASSERT_GE(ch.edge_times[n] - ch.edge_times[n - 1], 12 << 8);
+  ch.rate.halt();
+  EXPECT_FALSE(ch.rate.moving());
+  EXPECT_TRUE(ch.rate.set_position(INT32_MAX));
+  EXPECT_EQ(ch.rate.position_steps(), Rate::kPositionLimit);
+  ch.tick();  // the scheduled edge, if any
+  ch.rate.set_speed(1000);  // no further at the count's limit
+  const int32_t p = ch.rate.position_steps();
+  for (int n = 0; n < 100; ++n) ch.tick();
+  EXPECT_LE(ch.rate.position_steps(), p + 1);
+}
+
+TEST(StepRate, PositionOnlySetAtRest) {
+  Channel ch;
+  ASSERT_EQ(ch.rate.configure(constants(kJ6)), RateStatus::ok);
+  ch.rate.set_speed(2000);
+  for (int n = 0; n < 50; ++n) ch.tick();
+  EXPECT_FALSE(ch.rate.set_position(123));
+  ch.rate.stop();
+  while (ch.rate.moving() || ch.running) ch.tick();
+  EXPECT_TRUE(ch.rate.set_position(123));
+  EXPECT_EQ(ch.rate.position_steps(), 123);
+}
+
+}  // namespace
