@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -39,16 +40,22 @@ inline std::string output_of(const std::string& command) {
   return r.out;
 }
 
-// Runs an image with --timings json_path and returns the JSON text ("" on failure)
+// Runs an image with --timings and returns the JSON text ("" on failure), left at json_path.
+// ctest runs each test of a suite in its own process, in parallel: each writes its own file and
+// renames it into place, so that none reads another's half-written one.
 inline std::string timings_of(const std::string& avr_run, const std::string& elf, const std::string& json_path) {
-  const std::string command = avr_run + " " + elf + " --timings " + json_path + " > /dev/null";
+  const std::string mine = json_path + "." + std::to_string(getpid());
+  const std::string command = avr_run + " " + elf + " --timings " + mine + " > /dev/null";
   if (std::system(command.c_str()) != 0) {
     ADD_FAILURE() << command;
     return "";
   }
-  std::ifstream in(json_path);
   std::stringstream ss;
-  ss << in.rdbuf();
+  {
+    std::ifstream in(mine);
+    ss << in.rdbuf();
+  }
+  std::rename(mine.c_str(), json_path.c_str());
   return ss.str();
 }
 
