@@ -166,7 +166,7 @@ WMRA_COLD void drives_off() {
   bridges::all_off();
   for (uint8_t i = 0; i < 3; ++i) {
     steppers::Rate& r = steppers::rate(i);
-    if (r.moving()) g_homed = false;
+    if (!r.stops_within_a_step()) g_homed = false;  // the rotor may coast on: home again
     r.halt();
     g_q[kStepperJoint[i]].set(kStepperMap[i].angle(r.position_steps()));
   }

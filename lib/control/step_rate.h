@@ -225,6 +225,9 @@ class StepRate {
   int32_t position_steps() const { return position_; }
   int32_t speed_q8() const { return v_q8_; }
   bool moving() const { return v_q8_ != 0; }
+  // At most the braking curve's speed one step out (sqrt(2 a)): the ramp itself could stop
+  // within one step, so cutting the driver now costs no more than cutting it at rest.
+  bool stops_within_a_step() const { return magnitude_u32(v_q8_) <= (uint32_t)k_.one_step_brake_q8; }
   const StepRateConstants& constants() const { return k_; }
 
   // kTickHz 256 / (speed_q8 / 256), for speeds in [v_min, v_max]: the table reciprocal of

@@ -271,6 +271,25 @@ TEST(StepRate, SpeedsBelowTheSlowestAreAStop) {
   EXPECT_EQ(ch.position, at_rest);
 }
 
+// drives_off() keeps the homing of a ramp stopped this slowly (firmware/app/arm_control.cpp)
+TEST(StepRate, StopsWithinAStepUpToTheOneStepBrakingSpeed) {
+  Channel ch;
+  ASSERT_EQ(ch.rate.configure(constants(kJ1)), RateStatus::ok);
+  const double one_step_brake = std::sqrt(2.0 * kJ1.accel_steps_s2);  // 49.4 steps/s
+  EXPECT_TRUE(ch.rate.stops_within_a_step());
+  bool seen_true_moving = false, seen_false = false;
+  for (int n = 0; n < 300; ++n) {
+    ch.rate.set_speed(-1000);
+    ch.tick();
+    const double v = std::fabs(speed_steps_s(ch.rate));
+    EXPECT_EQ(ch.rate.stops_within_a_step(), v <= one_step_brake + 1.0 / 256) << v;
+    seen_true_moving |= ch.rate.stops_within_a_step() && ch.rate.moving();
+    seen_false |= !ch.rate.stops_within_a_step();
+  }
+  EXPECT_TRUE(seen_true_moving) << "a slow speed on the way up";
+  EXPECT_TRUE(seen_false);
+}
+
 TEST(StepRate, GarbageCommandsSaturate) {
   Channel ch;
   ASSERT_EQ(ch.rate.configure(constants(kFast)), RateStatus::ok);
