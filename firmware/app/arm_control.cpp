@@ -503,6 +503,19 @@ WMRA_COLD int32_t lag_units(uint32_t units, uint32_t counts, int16_t mrad) {
   return (int32_t)(((uint64_t)units * (uint16_t)mrad * kAngleCountsPerMrad_q24 / counts) >> 24);
 }
 
+// a DC joint's pot map and its tracking thresholds in pot units, from the calibration
+WMRA_COLD void configure_pot(const Settings& settings, uint8_t d) {
+  using L = kin::JointLimits<Fixed>;
+  const uint8_t j = kDcJoint[d];
+  const int32_t at_min = settings.pot_at_min_counts_x16[d], at_max = settings.pot_at_max_counts_x16[d];
+  g_pot[d] = core::PotMap::make(L::min[j], L::max[j], at_min, at_max);
+  const uint32_t units = (uint32_t)(at_max - at_min), counts = (uint32_t)(L::max[j].raw - L::min[j].raw);
+  g_lag_slow_units[d] = lag_units(units, counts, kTrackingSlowFrom_mrad);
+  g_lag_stop_units[d] = lag_units(units, counts, kTrackingStopAt_mrad);
+  g_lag_fault_units[d] = lag_units(units, counts, kTrackingFault_mrad);
+  g_lag_inverse[d] = (int16_t)(32767 / (g_lag_stop_units[d] - g_lag_slow_units[d]));
+}
+
 WMRA_COLD void configure(Settings& settings) {
   constexpr control::JoystickConfig kStick{1023,
                                            kStickRailMargin_counts,
@@ -525,16 +538,8 @@ WMRA_COLD void configure(Settings& settings) {
     g_homing[i].configure(kHomingConfig[i]);
   }
 
-  using L = kin::JointLimits<Fixed>;
   for (uint8_t d = 0; d < 3; ++d) {
-    const uint8_t j = kDcJoint[d];
-    const int32_t at_min = settings.pot_at_min_counts_x16[d], at_max = settings.pot_at_max_counts_x16[d];
-    g_pot[d] = core::PotMap::make(L::min[j], L::max[j], at_min, at_max);
-    const uint32_t units = (uint32_t)(at_max - at_min), counts = (uint32_t)(L::max[j].raw - L::min[j].raw);
-    g_lag_slow_units[d] = lag_units(units, counts, kTrackingSlowFrom_mrad);
-    g_lag_stop_units[d] = lag_units(units, counts, kTrackingStopAt_mrad);
-    g_lag_fault_units[d] = lag_units(units, counts, kTrackingFault_mrad);
-    g_lag_inverse[d] = (int16_t)(32767 / (g_lag_stop_units[d] - g_lag_slow_units[d]));
+    configure_pot(settings, d);
     g_servo[d].configure(kDcServoConfig[d]);
   }
 }
@@ -670,6 +675,29 @@ bool store_pose(uint8_t slot) {
   g_settings->pose_valid |= (uint8_t)(1 << slot);
   save_settings(*g_settings);
   return true;
+}
+
+// Only with the drives off: the joint's measured angle moves with its calibration, and a
+// servo holding it would drive it to the old angle. drives_on() starts from the new one.
+CalibrationChange calibrate_pot(uint8_t joint, int16_t at_min_counts_x16, int16_t at_max_counts_x16) {
+  if (joint < 2 || joint > 4) return CalibrationChange::bad_argument;
+  if (g_supervisor.drives_enabled()) return CalibrationChange::refused;
+  const uint8_t d = (uint8_t)(joint - 2);
+  if (!app::set_pot_calibration(*g_settings, d, at_min_counts_x16, at_max_counts_x16))
+    return CalibrationChange::bad_argument;
+  configure_pot(*g_settings, d);
+  return CalibrationChange::ok;
+}
+
+protocol::CalibrationMsg calibration() {
+  protocol::CalibrationMsg m{};
+  for (uint8_t d = 0; d < 3; ++d) {
+    m.at_min_counts_x16[d] = g_settings->pot_at_min_counts_x16[d];
+    m.at_max_counts_x16[d] = g_settings->pot_at_max_counts_x16[d];
+    m.reading_counts_x16[d] = (int16_t)g_dc_units[d];
+  }
+  m.from_command = g_settings->pot_calibrated;
+  return m;
 }
 
 bool pose_valid(uint8_t slot) { return slot < kPoseSlots && (g_settings->pose_valid & (1 << slot)); }

@@ -16,6 +16,7 @@
 #include "core/supervisor.h"
 #include "kinematics/fixed_point.h"
 #include "kinematics/fixed_trig.h"
+#include "protocol/messages.h"
 
 namespace wmra {
 namespace app {
@@ -55,6 +56,10 @@ bool select_mode(config::Mode m);
 void set_speed_scale(uint8_t percent);
 bool store_pose(uint8_t slot);
 bool pose_valid(uint8_t slot);
+enum class CalibrationChange : uint8_t { ok, refused, bad_argument };
+// joint 2..4: its pot counts x 16 at its limits, or both 0 for joints_config.h's (settings.h)
+CalibrationChange calibrate_pot(uint8_t joint, int16_t at_min_counts_x16, int16_t at_max_counts_x16);
+protocol::CalibrationMsg calibration();
 
 }  // namespace app
 }  // namespace wmra

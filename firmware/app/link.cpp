@@ -24,6 +24,7 @@ uint16_t g_rejected;
 uint32_t g_next_state_ms;  // the next state frame is due at this tick::now_ms()
 uint16_t g_velocity_age_ms = 0xFFFF;
 uint16_t g_loop_cycles_max;
+bool g_send_calibration;  // a calibration frame follows the command's reply (on a later tick if the buffer is full)
 
 int16_t to_i16(int32_t v) { return (int16_t)(v > 32767 ? 32767 : v < -32767 ? -32767 : v); }
 
@@ -46,10 +47,13 @@ int16_t tenth_mm(fx::Real r) {
 // 32-bit division of ~600 cycles); +-32767 gives +-1000
 int16_t permille(int16_t q15) { return (int16_t)(((int32_t)q15 * 2000 + 32768) >> 16); }
 
-void send(MsgType type, const uint8_t* payload, uint8_t length) {
+// false when the transmit buffer had no room: the frame is dropped whole
+bool send(MsgType type, const uint8_t* payload, uint8_t length) {
   uint8_t frame[protocol::kMaxPayload + 7];
   const uint8_t n = protocol::write_frame((uint8_t)type, g_seq, payload, length, frame);
-  if (uart::write(frame, n)) ++g_seq;
+  if (!uart::write(frame, n)) return false;
+  ++g_seq;
+  return true;
 }
 
 void reply(const protocol::Frame& f, ReplyStatus status) {
@@ -108,6 +112,18 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
       g_velocity_age_ms = 0;
       return ReplyStatus::ok;
     }
+    case MsgType::cmd_pot_calibration: {
+      protocol::PotCalibrationCmd c{};
+      protocol::decode(f, c);
+      const CalibrationChange change = calibrate_pot(c.joint, c.at_min_counts_x16, c.at_max_counts_x16);
+      if (change == CalibrationChange::ok) g_send_calibration = true;
+      return change == CalibrationChange::ok        ? ReplyStatus::ok
+             : change == CalibrationChange::refused ? ReplyStatus::refused
+                                                    : ReplyStatus::bad_argument;
+    }
+    case MsgType::cmd_get_calibration:
+      g_send_calibration = true;
+      return ReplyStatus::ok;
     default:
       break;
   }
@@ -146,6 +162,11 @@ __attribute__((noinline)) void send_state() {
   g_loop_cycles_max = 0;
 }
 
+__attribute__((noinline)) void send_calibration() {
+  uint8_t payload[protocol::kMaxPayload];
+  if (send(MsgType::calibration, payload, protocol::encode(calibration(), payload))) g_send_calibration = false;
+}
+
 }  // namespace
 
 void start(uint8_t reset_cause, uint8_t calibration) {
@@ -163,6 +184,7 @@ void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   for (uint8_t n = 0; n < config::kMaxRxBytesPerTick && uart::read(byte); ++n) {
     if (g_parser.feed(byte)) reply(g_parser.frame(), handle(g_parser.frame(), rq));
   }
+  if (g_send_calibration) send_calibration();
   if (g_velocity_age_ms < 0xFF00) g_velocity_age_ms = (uint16_t)(g_velocity_age_ms + ticks);
   rq.velocity_fresh = g_velocity_age_ms < protocol::kVelocityTimeout_ms;
   // one frame per period, after the first iteration at or past its start (every 20 ms from

@@ -1,6 +1,9 @@
 // What the arm keeps across power cycles, in EEPROM (lib/drivers/eeprom_store.h): the DC
 // joints' potentiometer calibration and the stored poses. Defaults come from the config when
-// the EEPROM is blank, corrupt or from another layout version.
+// the EEPROM is blank, corrupt or from another layout version. A joint's calibration is kept
+// only once a person set it (cmd_pot_calibration); until then it follows joints_config.h at
+// every boot, so that an edited config takes effect on the next flash although flashing
+// leaves the EEPROM as it was.
 #pragma once
 
 #include <stdint.h>
@@ -17,13 +20,18 @@ struct Settings {
   int16_t pot_at_max_counts_x16[3];  // and at its upper limit
   int32_t pose_angle[kPoseSlots][6];  // fx::Angle raw; slot 0 defaults to the ready pose
   uint8_t pose_valid;                 // bit per slot
+  uint8_t pot_calibrated;             // bit per DC joint: its two values were set by a person
 };
 
-constexpr uint8_t kSettingsVersion = 1;
+// 2 added pot_calibrated at the end; a version 1 block keeps its poses (load_settings)
+constexpr uint8_t kSettingsVersion = 2;
 
 // loads, or sets the defaults; returns how
 eeprom_store::LoadResult load_settings(Settings& s);
 void save_settings(const Settings& s);
+// One DC joint's (d: 0..2 for J2..J4) pot counts x 16 at its limits; both 0 return it to
+// joints_config.h. False, changing nothing, for values no pot and amplifier could give.
+bool set_pot_calibration(Settings& s, uint8_t d, int16_t at_min_counts_x16, int16_t at_max_counts_x16);
 
 }  // namespace app
 }  // namespace wmra

@@ -13,9 +13,10 @@ namespace wmra {
 namespace protocol {
 
 enum class MsgType : uint8_t {
-  state = 0x01, reply = 0x02, boot = 0x03,  // firmware -> host
+  state = 0x01, reply = 0x02, boot = 0x03, calibration = 0x04,  // firmware -> host
   cmd_stop = 0x10, cmd_rearm = 0x11, cmd_mode = 0x12, cmd_speed_scale = 0x13, cmd_home = 0x14,
-  cmd_goto_pose = 0x15, cmd_store_pose = 0x16, cmd_velocity = 0x17,  // host -> firmware
+  cmd_goto_pose = 0x15, cmd_store_pose = 0x16, cmd_velocity = 0x17, cmd_pot_calibration = 0x18,
+  cmd_get_calibration = 0x19,  // host -> firmware
 };
 
 enum class ReplyStatus : uint8_t { ok = 0, unknown_command = 1, bad_length = 2, bad_argument = 3, refused = 4 };
@@ -139,6 +140,40 @@ struct VelocityCmd {  // hand twist in the base frame; the firmware stops if non
   }
 };
 
+// The DC joints' potentiometer calibration (J2, J3, J4), after a cmd_get_calibration or a
+// cmd_pot_calibration: a person reads the pot where a joint sits at a limit, then sets it.
+struct CalibrationMsg {
+  int16_t at_min_counts_x16[3];  // ADC counts x 16 at each joint's lower limit
+  int16_t at_max_counts_x16[3];  // and at its upper limit
+  int16_t reading_counts_x16[3];  // what each pot reads now
+  uint8_t from_command;           // bit d: joint d's two values were set by cmd_pot_calibration (else joints_config.h)
+
+  static constexpr MsgType kType = MsgType::calibration;
+  template <class Io, class Self>
+  static constexpr void fields(Io& io, Self& m) {
+    for (auto& v : m.at_min_counts_x16) io(v);
+    for (auto& v : m.at_max_counts_x16) io(v);
+    for (auto& v : m.reading_counts_x16) io(v);
+    io(m.from_command);
+  }
+};
+
+// Sets one DC joint's pot calibration, kept in EEPROM; both values 0 return the joint to
+// joints_config.h. Refused while the drives are on: the joint's measured angle jumps with it.
+struct PotCalibrationCmd {
+  uint8_t joint;  // 2, 3 or 4 (J2..J4)
+  int16_t at_min_counts_x16;
+  int16_t at_max_counts_x16;
+
+  static constexpr MsgType kType = MsgType::cmd_pot_calibration;
+  template <class Io, class Self>
+  static constexpr void fields(Io& io, Self& m) {
+    io(m.joint);
+    io(m.at_min_counts_x16);
+    io(m.at_max_counts_x16);
+  }
+};
+
 template <class Msg>
 constexpr uint8_t payload_bytes() {
   wire::Count count{0};
@@ -153,6 +188,7 @@ static_assert(kStatePayloadBytes <= kMaxPayload, "a state frame fits one frame")
 // the documented layouts (docs/telemetry.md): a change here is a change of kVersion
 static_assert(kStatePayloadBytes == 57 && kVelocityPayloadBytes == 12, "payload sizes as documented");
 static_assert(payload_bytes<ReplyMsg>() == 3 && payload_bytes<BootMsg>() == 2, "payload sizes as documented");
+static_assert(payload_bytes<CalibrationMsg>() == 19 && payload_bytes<PotCalibrationCmd>() == 5, "payload sizes as documented");
 
 // Fills payload (room for kMaxPayload) and returns its length
 template <class Msg>
@@ -188,6 +224,7 @@ inline ReplyStatus check_command(const Frame& f) {
     case MsgType::cmd_stop:
     case MsgType::cmd_rearm:
     case MsgType::cmd_home:
+    case MsgType::cmd_get_calibration:
       break;
     case MsgType::cmd_mode:
       len = 1;
@@ -204,6 +241,9 @@ inline ReplyStatus check_command(const Frame& f) {
       break;
     case MsgType::cmd_velocity:
       len = kVelocityPayloadBytes;
+      break;
+    case MsgType::cmd_pot_calibration:
+      len = payload_bytes<PotCalibrationCmd>();
       break;
     default:
       return ReplyStatus::unknown_command;

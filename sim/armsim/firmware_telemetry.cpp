@@ -9,6 +9,7 @@ void FirmwareTelemetry::feed(uint8_t byte) {
   protocol::StateMsg state;
   protocol::ReplyMsg reply;
   protocol::BootMsg boot;
+  protocol::CalibrationMsg calibration;
   if (protocol::decode(f, state)) {
     states_.push_back(state);
     for (const std::string& name : telemetry::fault_names(state.faults & ~faults_seen_)) faults_.push_back(name);
@@ -17,6 +18,8 @@ void FirmwareTelemetry::feed(uint8_t byte) {
     replies_.push_back(reply);
   } else if (protocol::decode(f, boot)) {
     boots_.push_back(boot);
+  } else if (protocol::decode(f, calibration)) {
+    calibrations_.push_back(calibration);
   }
 }
 

@@ -26,6 +26,7 @@ class FirmwareTelemetry : public TelemetryDecoder {
   const std::vector<protocol::StateMsg>& states() const { return states_; }  // all of them, in order
   const std::vector<protocol::ReplyMsg>& replies() const { return replies_; }
   const std::vector<protocol::BootMsg>& boots() const { return boots_; }
+  const std::vector<protocol::CalibrationMsg>& calibrations() const { return calibrations_; }
   const telemetry::FrameStream& stream() const { return stream_; }  // frames, parser errors, seq gaps
 
  private:
@@ -33,6 +34,7 @@ class FirmwareTelemetry : public TelemetryDecoder {
   std::vector<protocol::StateMsg> states_;
   std::vector<protocol::ReplyMsg> replies_;
   std::vector<protocol::BootMsg> boots_;
+  std::vector<protocol::CalibrationMsg> calibrations_;
   uint32_t faults_seen_ = 0;
   std::vector<std::string> faults_;
 };

@@ -127,6 +127,17 @@ TEST(Messages, OtherPayloadsAsDocumented) {
   EXPECT_EQ(le16(p + 6), 800);
   EXPECT_EQ((int16_t)le16(p + 8), -1);
   EXPECT_EQ(le16(p + 10), 32767);
+  ASSERT_EQ(encode(CalibrationMsg{{819, 800, 1}, {15564, 15000, 2}, {-1, 4000, 3}, 5}, p), 19);
+  EXPECT_EQ(le16(p), 819);
+  EXPECT_EQ(le16(p + 2), 800);
+  EXPECT_EQ(le16(p + 6), 15564);  // at_max_counts_x16
+  EXPECT_EQ((int16_t)le16(p + 12), -1);  // reading_counts_x16
+  EXPECT_EQ(le16(p + 14), 4000);
+  EXPECT_EQ(p[18], 5);  // from_command
+  ASSERT_EQ(encode(PotCalibrationCmd{3, 1459, 15564}, p), 5);
+  EXPECT_EQ(p[0], 3);
+  EXPECT_EQ(le16(p + 1), 1459);
+  EXPECT_EQ(le16(p + 3), 15564);
 }
 
 TEST(Messages, RoundTripThroughTheParser) {
@@ -309,7 +320,7 @@ TEST(Commands, CheckCommand) {
     return check_command(f);
   };
   using S = ReplyStatus;
-  for (MsgType t : {MsgType::cmd_stop, MsgType::cmd_rearm, MsgType::cmd_home}) {
+  for (MsgType t : {MsgType::cmd_stop, MsgType::cmd_rearm, MsgType::cmd_home, MsgType::cmd_get_calibration}) {
     EXPECT_EQ(check(t, {}), S::ok);
     EXPECT_EQ(check(t, {0}), S::bad_length);
   }
@@ -332,6 +343,10 @@ TEST(Commands, CheckCommand) {
   EXPECT_EQ(check(MsgType::cmd_velocity, std::vector<uint8_t>(12, 0xFF)), S::ok);
   EXPECT_EQ(check(MsgType::cmd_velocity, std::vector<uint8_t>(11, 0)), S::bad_length);
   EXPECT_EQ(check(MsgType::cmd_velocity, std::vector<uint8_t>(13, 0)), S::bad_length);
+  // the joint and the values are the firmware's to check (it knows which joints have pots)
+  EXPECT_EQ(check(MsgType::cmd_pot_calibration, {9, 0xFF, 0xFF, 0, 0}), S::ok);
+  EXPECT_EQ(check(MsgType::cmd_pot_calibration, {3, 0, 0, 0}), S::bad_length);
+  EXPECT_EQ(check(MsgType::cmd_pot_calibration, {3, 0, 0, 0, 0, 0}), S::bad_length);
   // not commands: the firmware's own types, the gaps around the command range
-  for (uint8_t t : {0x00, 0x01, 0x02, 0x03, 0x0F, 0x18, 0xFF}) EXPECT_EQ(check((MsgType)t, {}), S::unknown_command) << (int)t;
+  for (uint8_t t : {0x00, 0x01, 0x02, 0x03, 0x04, 0x0F, 0x1A, 0xFF}) EXPECT_EQ(check((MsgType)t, {}), S::unknown_command) << (int)t;
 }

@@ -111,6 +111,9 @@ TEST(TelemetryJson, ReplyBootAndCommands) {
             "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\"],\"calibration\":\"defaults_blank\"}");
   EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x05, 0}, 0))),
             "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\",\"brown_out\"],\"calibration\":\"eeprom\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(CalibrationMsg{{819, 819, 819}, {15564, 15564, 15000}, {4000, 8000, -3}, 4}, 7))),
+            "{\"type\":\"calibration\",\"seq\":7,\"at_min_counts_x16\":[819,819,819],\"at_max_counts_x16\":"
+            "[15564,15564,15000],\"reading_counts_x16\":[4000,8000,-3],\"from_command\":4}");
   EXPECT_EQ(to_json(parse_one(frame_bytes(0x16, 5, {2}))),
             "{\"type\":\"command\",\"command\":\"store_pose\",\"seq\":5,\"slot\":2}");
   EXPECT_EQ(to_json(parse_one(message_bytes(VelocityCmd{{150, 0, -1}, {0, 800, 0}}, 6))),
@@ -164,6 +167,10 @@ TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
       {"store 3", "{\"type\":\"command\",\"command\":\"store_pose\",\"seq\":0,\"slot\":3}"},
       {"velocity 0.15 -0.0504 0 0 -0.8 32.767",
        "{\"type\":\"command\",\"command\":\"velocity\",\"seq\":0,\"v_mm_s\":[150,-50,0],\"w_mrad_s\":[0,-800,32767]}"},
+      {"calibration", "{\"type\":\"command\",\"command\":\"get_calibration\",\"seq\":0}"},
+      {"calibrate 3 1459 15564",
+       "{\"type\":\"command\",\"command\":\"pot_calibration\",\"seq\":0,\"joint\":3,\"at_min_counts_x16\":1459,"
+       "\"at_max_counts_x16\":15564}"},
   };
   std::vector<uint8_t> all;
   std::string expected;
@@ -184,7 +191,7 @@ TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
   CliRun r = cli("decode", path);  // stdin
   EXPECT_EQ(r.status, 0);
   EXPECT_EQ(r.out, expected);
-  EXPECT_EQ(r.err, "wmra-telemetry: frames 9, crc errors 0, framing errors 0, skipped bytes 1, seq gaps 0\n");
+  EXPECT_EQ(r.err, "wmra-telemetry: frames 11, crc errors 0, framing errors 0, skipped bytes 1, seq gaps 0\n");
   r = cli("decode " + path);  // a file
   EXPECT_EQ(r.out, expected);
   EXPECT_EQ(cli("encode stop").out, "a50110000017b1\n");  // the CRC by hand: docs/telemetry.md
@@ -225,6 +232,10 @@ TEST(WmraTelemetryCli, BadInputExitsWithTwo) {
       "encode velocity 32.768 0 0 0 0 0",
       "encode velocity 0 0 0 0 0 -40",
       "encode velocity nan 0 0 0 0 0",
+      "encode calibrate 5 800 15000",
+      "encode calibrate 3 800",
+      "encode calibrate 3 -1 15000",
+      "encode calibrate 3 800 16369",
       "encode stop --seq 256",
       "encode stop --seq",
       "decode a b",

@@ -104,4 +104,79 @@ TEST(FirmwareSafety, S10HangEndsInWatchdogResetReported) {
   EXPECT_NE(rig.state(), core::ArmState::running);
 }
 
+// A person's pot calibration (cmd_pot_calibration): refused while the drives are on, checked,
+// applied at once to the joint's measured angle, kept over a reset, and undone by 0 0.
+TEST(FirmwareCalibration, PotCalibrationByCommandIsCheckedKeptAndUndone) {
+  using protocol::MsgType;
+  using protocol::ReplyStatus;
+  Rig rig(kTestFirmware);
+  uint8_t seq = 1;
+  // the command's reply and, if it was ok, the calibration frame that follows it
+  const auto ask = [&](MsgType type, std::vector<uint8_t> payload) {
+    const size_t replies = rig.telemetry.replies().size();
+    rig.sim.send_serial(command(type, seq++, payload));
+    rig.run_to(rig.sim.time_s() + 0.05);
+    EXPECT_EQ(rig.telemetry.replies().size(), replies + 1);
+    return (ReplyStatus)rig.telemetry.replies().back().status;
+  };
+  const auto calibrate = [&](uint8_t joint, int16_t at_min, int16_t at_max) {
+    return ask(MsgType::cmd_pot_calibration, {joint, (uint8_t)at_min, (uint8_t)(at_min >> 8), (uint8_t)at_max,
+                                              (uint8_t)(at_max >> 8)});
+  };
+  const int16_t config_min = (int16_t)(config::kPotAtMin_mV * 1024L * 16 / config::kAdcRef_mV);
+  const int16_t config_max = (int16_t)(config::kPotAtMax_mV * 1024L * 16 / config::kAdcRef_mV);
+
+  ASSERT_GT(rig.run_until_state(core::ArmState::running, 12.0), 0);
+  ASSERT_EQ(ask(MsgType::cmd_get_calibration, {}), ReplyStatus::ok);
+  ASSERT_EQ(rig.telemetry.calibrations().size(), 1u);
+  for (int d = 0; d < 3; ++d) {
+    EXPECT_EQ(rig.telemetry.calibrations()[0].at_min_counts_x16[d], config_min);
+    EXPECT_EQ(rig.telemetry.calibrations()[0].at_max_counts_x16[d], config_max);
+  }
+  EXPECT_EQ(rig.telemetry.calibrations()[0].from_command, 0);
+
+  const int16_t new_min = (int16_t)(config_min + 40 * 16);  // J3's lower limit 40 counts higher
+  EXPECT_EQ(calibrate(3, new_min, config_max), ReplyStatus::refused) << "the drives are on";
+  ASSERT_EQ(ask(MsgType::cmd_stop, {}), ReplyStatus::ok);
+  rig.run_to(rig.sim.time_s() + 0.2);
+  ASSERT_EQ(rig.state(), core::ArmState::stopped);
+  const double q3_before_mrad = rig.last().q_mrad[2];
+  EXPECT_EQ(calibrate(5, new_min, config_max), ReplyStatus::bad_argument) << "J5 has no pot";
+  EXPECT_EQ(calibrate(3, config_min, (int16_t)(config_min + 199 * 16)), ReplyStatus::bad_argument)
+      << "limits under 200 counts apart";
+  EXPECT_EQ(calibrate(3, -16, config_max), ReplyStatus::bad_argument) << "below the ADC's range";
+  EXPECT_EQ(rig.telemetry.calibrations().size(), 1u) << "a refused change sends no calibration";
+
+  ASSERT_EQ(calibrate(3, new_min, config_max), ReplyStatus::ok);
+  ASSERT_EQ(rig.telemetry.calibrations().size(), 2u);
+  const protocol::CalibrationMsg& c = rig.telemetry.calibrations().back();
+  EXPECT_EQ(c.at_min_counts_x16[1], new_min);
+  EXPECT_EQ(c.at_max_counts_x16[1], config_max);
+  EXPECT_EQ(c.at_min_counts_x16[0], config_min) << "J2 untouched";
+  EXPECT_EQ(c.from_command, 2);
+  // J3's measured angle follows the new map from the same reading (J3 is stopped; its pot's
+  // noise moves the reading by a count or two between frames)
+  rig.run_to(rig.sim.time_s() + 0.05);
+  const double q_min = arm::q_min_rad(2) * 1000, q_max = arm::q_max_rad(2) * 1000;
+  const double expected_mrad = q_min + (c.reading_counts_x16[1] - new_min) * (q_max - q_min) / (config_max - new_min);
+  const double count_mrad = (q_max - q_min) * 16 / (config_max - new_min);
+  EXPECT_NEAR(rig.last().q_mrad[2], expected_mrad, 3 * count_mrad);
+  EXPECT_GT(std::fabs(rig.last().q_mrad[2] - q3_before_mrad), 10 * count_mrad) << "the angle moved with the map";
+
+  // kept in EEPROM over a reset (a hang: the watchdog), once its bytes are written
+  rig.run_to(rig.sim.time_s() + 0.5);
+  rig.sim.send_serial(command((MsgType)0x7F, seq++));
+  rig.run_to(rig.sim.time_s() + 0.3);
+  ASSERT_GE(rig.telemetry.boots().size(), 2u);
+  EXPECT_EQ(rig.telemetry.boots().back().calibration, (uint8_t)protocol::Calibration::eeprom);
+  ASSERT_EQ(ask(MsgType::cmd_get_calibration, {}), ReplyStatus::ok);
+  EXPECT_EQ(rig.telemetry.calibrations().back().at_min_counts_x16[1], new_min);
+  EXPECT_EQ(rig.telemetry.calibrations().back().from_command, 2);
+
+  // 0 0: back to joints_config.h
+  ASSERT_EQ(calibrate(3, 0, 0), ReplyStatus::ok);
+  EXPECT_EQ(rig.telemetry.calibrations().back().at_min_counts_x16[1], config_min);
+  EXPECT_EQ(rig.telemetry.calibrations().back().from_command, 0);
+}
+
 }  // namespace

@@ -92,6 +92,7 @@ bool add_report(Object& o, const Frame& f) {
   protocol::StateMsg state;
   protocol::ReplyMsg reply;
   protocol::BootMsg boot;
+  protocol::CalibrationMsg calibration;
   if (protocol::decode(f, state)) {
     add_state(o, state);
   } else if (protocol::decode(f, reply)) {
@@ -102,6 +103,11 @@ bool add_report(Object& o, const Frame& f) {
   } else if (protocol::decode(f, boot)) {
     o.strs("reset_cause", reset_cause_names(boot.reset_cause));
     o.str("calibration", calibration_name(boot.calibration));
+  } else if (protocol::decode(f, calibration)) {
+    o.nums("at_min_counts_x16", calibration.at_min_counts_x16);
+    o.nums("at_max_counts_x16", calibration.at_max_counts_x16);
+    o.nums("reading_counts_x16", calibration.reading_counts_x16);
+    o.num("from_command", calibration.from_command);
   } else {
     return false;
   }
@@ -122,7 +128,15 @@ void add_command_argument(Object& o, const Frame& f) {
       o.nums("w_mrad_s", v.w_mrad_s);
       break;
     }
-    default: break;  // stop, rearm, home: no argument
+    case MsgType::cmd_pot_calibration: {
+      protocol::PotCalibrationCmd c{};
+      protocol::decode(f, c);
+      o.num("joint", c.joint);
+      o.num("at_min_counts_x16", c.at_min_counts_x16);
+      o.num("at_max_counts_x16", c.at_max_counts_x16);
+      break;
+    }
+    default: break;  // stop, rearm, home, get_calibration: no argument
   }
 }
 
@@ -145,6 +159,7 @@ const char* type_name(uint8_t type) {
     case MsgType::state: return "state";
     case MsgType::reply: return "reply";
     case MsgType::boot: return "boot";
+    case MsgType::calibration: return "calibration";
     case MsgType::cmd_stop: return "stop";
     case MsgType::cmd_rearm: return "rearm";
     case MsgType::cmd_mode: return "mode";
@@ -153,6 +168,8 @@ const char* type_name(uint8_t type) {
     case MsgType::cmd_goto_pose: return "goto_pose";
     case MsgType::cmd_store_pose: return "store_pose";
     case MsgType::cmd_velocity: return "velocity";
+    case MsgType::cmd_pot_calibration: return "pot_calibration";
+    case MsgType::cmd_get_calibration: return "get_calibration";
   }
   return nullptr;
 }

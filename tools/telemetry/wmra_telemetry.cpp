@@ -5,6 +5,8 @@
 //                                             a command frame as lowercase hex (armsim's "serial HEX")
 //       stop | rearm | home | mode xy|xz|r1|r2|gripper | speed PCT | goto SLOT | store SLOT
 //       | velocity VX VY VZ WX WY WZ          (m/s and rad/s, base frame)
+//       | calibration | calibrate J AT_MIN AT_MAX
+//                                             read / set a DC joint's pot calibration (J 2..4, counts x 16)
 //   wmra-telemetry listen DEVICE [--send HEX [--every MS]]
 //                                             a serial port at 115200 8N1, decoded live until Ctrl-C;
 //                                             HEX is sent once the firmware's first frame has arrived,
@@ -48,6 +50,7 @@ const char kUsage[] =
     "       wmra-telemetry encode COMMAND [ARG...] [--seq N]\n"
     "         COMMAND: stop | rearm | home | mode xy|xz|r1|r2|gripper | speed PCT | goto SLOT | store SLOT\n"
     "                  | velocity VX VY VZ WX WY WZ   (m/s, rad/s, base frame)\n"
+    "                  | calibration | calibrate J AT_MIN AT_MAX   (J 2..4; pot counts x 16; 0 0: the config's)\n"
     "       wmra-telemetry listen DEVICE [--send HEX [--every MS]]\n";
 
 // a whole number in [lo, hi]
@@ -97,6 +100,7 @@ std::string encode(const std::vector<std::string>& words, uint8_t seq) {
       {"stop", MsgType::cmd_stop, 0},         {"rearm", MsgType::cmd_rearm, 0},    {"home", MsgType::cmd_home, 0},
       {"mode", MsgType::cmd_mode, 1},         {"speed", MsgType::cmd_speed_scale, 1}, {"goto", MsgType::cmd_goto_pose, 1},
       {"store", MsgType::cmd_store_pose, 1}, {"velocity", MsgType::cmd_velocity, 6},
+      {"calibration", MsgType::cmd_get_calibration, 0}, {"calibrate", MsgType::cmd_pot_calibration, 3},
   };
   if (words.empty()) throw BadInput{"encode wants a command"};
   const std::string& word = words[0];
@@ -132,6 +136,13 @@ std::string encode(const std::vector<std::string>& words, uint8_t seq) {
         v.w_mrad_s[i] = parse_milli(words[4 + i], kNames[3 + i]);
       }
       len = protocol::encode(v, payload);
+      break;
+    }
+    case MsgType::cmd_pot_calibration: {
+      const protocol::PotCalibrationCmd c{(uint8_t)parse_int(words[1], 2, 4, "J (the joint)"),
+                                         (int16_t)parse_int(words[2], 0, 1023 * 16, "AT_MIN (pot counts x 16)"),
+                                         (int16_t)parse_int(words[3], 0, 1023 * 16, "AT_MAX (pot counts x 16)")};
+      len = protocol::encode(c, payload);
       break;
     }
     default: break;  // no argument
