@@ -5,6 +5,7 @@
 #include <avr/sleep.h>
 
 #include "drivers/pins.h"
+#include "drivers/watchdog.h"
 #include "wmra_mega/board.h"
 
 namespace wmra {
@@ -76,7 +77,9 @@ using namespace wmra;
 ISR(TIMER1_COMPA_vect) {
   OCR1A += tick::kTickCounts;
   tick::g_ms = tick::g_ms + 1;
-  if (tick::g_pending != 255) tick::g_pending = tick::g_pending + 1;
+  const uint8_t pending = tick::g_pending;
+  if (pending != 255) tick::g_pending = (uint8_t)(pending + 1);
+  if (pending == watchdog::kStallMark_ms) watchdog::mark_stall();  // for the next boot's reset cause
 }
 
 // OC1C has just toggled. Switched off only after a falling edge, so the compare unit's output

@@ -4,13 +4,24 @@
 #include <avr/wdt.h>
 
 namespace {
-uint8_t g_reset_cause __attribute__((section(".noinit")));
+constexpr uint32_t kTrace = 0x574D5241;  // "WMRA": random RAM after a power loss matches it 1 in 2^32
+uint8_t g_mcusr __attribute__((section(".noinit")));
+uint32_t g_trace __attribute__((section(".noinit")));
+uint8_t g_reset_cause;
+}  // namespace
+
+namespace wmra {
+namespace watchdog {
+namespace detail {
+volatile uint8_t g_stalled __attribute__((section(".noinit")));
 }
+}  // namespace watchdog
+}  // namespace wmra
 
 // runs before main and before the C runtime initialises RAM
 extern "C" void wmra_watchdog_init3() __attribute__((naked, used, section(".init3")));
 extern "C" void wmra_watchdog_init3() {
-  g_reset_cause = MCUSR;
+  g_mcusr = MCUSR;
   MCUSR = 0;
   wdt_disable();
 }
@@ -19,8 +30,21 @@ namespace wmra {
 namespace watchdog {
 
 uint8_t reset_cause() { return g_reset_cause; }
-void start() { wdt_enable(WDTO_60MS); }
-void kick() { wdt_reset(); }
+
+void start() {
+  g_reset_cause = g_mcusr != 0             ? g_mcusr
+                  : g_trace != kTrace      ? (uint8_t)(kInferred | kPowerOn)
+                  : detail::g_stalled != 0 ? (uint8_t)(kInferred | kWatchdog)
+                                           : (uint8_t)(kInferred | kExternal);
+  g_trace = kTrace;
+  detail::g_stalled = 0;
+  wdt_enable(WDTO_60MS);
+}
+
+void kick() {
+  wdt_reset();
+  detail::g_stalled = 0;
+}
 
 }  // namespace watchdog
 }  // namespace wmra

@@ -114,6 +114,7 @@ ArmSimulator::ArmSimulator(const SimConfig& config)
   if (config.profile) core_->enable_profile();
   wire();
   core_->on_reset([this] { after_reset(); });
+  if (config.stock_bootloader) core_->avr()->data[m2560::kMcusr] = 0;
   avr_cycle_timer_register(core_->avr(), step_cycles_, &ArmSimulator::plant_tick, this);
   apply_inputs();
   update_outputs(true, true);
@@ -548,6 +549,7 @@ void ArmSimulator::plant_step(uint64_t when) {
 
 void ArmSimulator::after_reset() {
   avr_t* avr = core_->avr();
+  if (config_.stock_bootloader) avr->data[m2560::kMcusr] = 0;  // the reset's own cause is in measurements()
   // simavr's reset cancelled every cycle timer and cleared the PIN registers
   avr_cycle_timer_register(avr, step_cycles_ - avr->cycle % step_cycles_, &ArmSimulator::plant_tick, this);
   if (uart_armed_) avr_cycle_timer_register(avr, 1, &ArmSimulator::uart_tick, this);

@@ -38,6 +38,10 @@ struct SimConfig {
   uint32_t serial_baud = 115200;
   std::string vcd_path;  // empty: no trace
   bool profile = false;  // count cycles per instruction (AvrCore::profile)
+  // MCUSR cleared before the firmware runs, at power-up and after every reset, as the Mega's
+  // stock stk500v2 bootloader does (its ~1 s wait after a power-on or external reset and its
+  // LED blinks on D13 are not modelled)
+  bool stock_bootloader = false;
 };
 
 struct CycleStats {

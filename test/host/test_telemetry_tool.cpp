@@ -111,6 +111,10 @@ TEST(TelemetryJson, ReplyBootAndCommands) {
             "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\"],\"calibration\":\"defaults_blank\"}");
   EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x05, 0}, 0))),
             "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\",\"brown_out\"],\"calibration\":\"eeprom\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x88, 0}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\",\"inferred\"],\"calibration\":\"eeprom\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x60, 0}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"bit_5\",\"bit_6\"],\"calibration\":\"eeprom\"}");
   EXPECT_EQ(to_json(parse_one(message_bytes(CalibrationMsg{{819, 819, 819}, {15564, 15564, 15000}, {4000, 8000, -3}, 4}, 7))),
             "{\"type\":\"calibration\",\"seq\":7,\"at_min_counts_x16\":[819,819,819],\"at_max_counts_x16\":"
             "[15564,15564,15000],\"reading_counts_x16\":[4000,8000,-3],\"from_command\":4}");

@@ -42,11 +42,13 @@ struct Rig {
   armsim::FirmwareTelemetry telemetry;
   size_t fed = 0;  // UART bytes given to telemetry
 
-  explicit Rig(const std::string& elf, const plant::Joints& initial_q = kNearHome) : sim(config(elf, initial_q)) {}
-  static sim::SimConfig config(const std::string& elf, const plant::Joints& initial_q) {
+  explicit Rig(const std::string& elf, const plant::Joints& initial_q = kNearHome, bool stock_bootloader = false)
+      : sim(config(elf, initial_q, stock_bootloader)) {}
+  static sim::SimConfig config(const std::string& elf, const plant::Joints& initial_q, bool stock_bootloader) {
     sim::SimConfig c;
     c.elf = elf;
     c.initial_q = initial_q;
+    c.stock_bootloader = stock_bootloader;
     return c;
   }
   void run_to(double t_s) {

@@ -104,6 +104,25 @@ TEST(FirmwareSafety, S10HangEndsInWatchdogResetReported) {
   EXPECT_NE(rig.state(), core::ArmState::running);
 }
 
+// S10 behind the Mega's stock bootloader, which clears MCUSR: the cause inferred from RAM
+// (lib/drivers/watchdog.h), power-on at first, then the hang's watchdog reset
+TEST(FirmwareSafety, S10BehindTheStockBootloaderTheCauseIsInferred) {
+  Rig rig(kTestFirmware, test::kNearHome, true);
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0);
+  ASSERT_GE(rig.telemetry.boots().size(), 1u);
+  EXPECT_EQ(rig.telemetry.boots()[0].reset_cause, 0x80 | 1) << "inferred power-on: no trace in RAM";
+  rig.run_to(t_running + 0.5);
+  rig.sim.send_serial(command((protocol::MsgType)0x7F, 1));
+  rig.run_to(rig.sim.time_s() + 0.3);
+  const sim::Measurements m = rig.sim.measurements();
+  ASSERT_EQ(m.resets.size(), 1u);
+  EXPECT_EQ(m.resets[0].cause, "watchdog");
+  ASSERT_GE(rig.telemetry.boots().size(), 2u);
+  EXPECT_EQ(rig.telemetry.boots().back().reset_cause, 0x80 | 8) << "inferred watchdog: the stall mark";
+  EXPECT_EQ(rig.last().reset_cause, 0x80 | 8);
+}
+
 // A person's pot calibration (cmd_pot_calibration): refused while the drives are on, checked,
 // applied at once to the joint's measured angle, kept over a reset, and undone by 0 0.
 TEST(FirmwareCalibration, PotCalibrationByCommandIsCheckedKeptAndUndone) {

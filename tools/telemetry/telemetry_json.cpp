@@ -19,7 +19,8 @@ constexpr const char* kCalibrationNames[] = {"eeprom", "defaults_blank", "defaul
 static_assert((uint8_t)protocol::Calibration::defaults_other_version == 3, "a name for every Calibration");
 constexpr const char* kStatusNames[] = {"ok", "unknown_command", "bad_length", "bad_argument", "refused"};
 static_assert((uint8_t)protocol::ReplyStatus::refused == 4, "a name for every ReplyStatus");
-constexpr const char* kResetCauseNames[] = {"power_on", "external", "brown_out", "watchdog"};  // MCUSR bits 0..3
+// MCUSR bits 0..4, and bit 7: the firmware inferred the cause (lib/drivers/watchdog.h)
+constexpr const char* kResetCauseNames[] = {"power_on", "external", "brown_out", "watchdog", "jtag", "", "", "inferred"};
 constexpr const char* kSlowReasonNames[] = {"singular", "soft_limit", "joint_speed", "drive_load"};
 static_assert(core::kSlowSingular == 1 && core::kSlowSoftLimit == 2 && core::kSlowJointSpeed == 4 && core::kSlowDriveLoad == 8,
               "kSlowReasonNames[bit]");
@@ -150,7 +151,7 @@ std::string mode_name(uint8_t mode) { return code_name(mode, kModeNames); }
 std::string calibration_name(uint8_t calibration) { return code_name(calibration, kCalibrationNames); }
 std::string status_name(uint8_t status) { return code_name(status, kStatusNames); }
 std::vector<std::string> fault_names(uint32_t faults) { return bit_names(faults, core::kFaultNames, 32); }
-std::vector<std::string> reset_cause_names(uint8_t mcusr) { return bit_names(mcusr, kResetCauseNames, 4); }
+std::vector<std::string> reset_cause_names(uint8_t mcusr) { return bit_names(mcusr, kResetCauseNames, 8); }
 std::vector<std::string> slow_reason_names(uint8_t slowed_by) { return bit_names(slowed_by, kSlowReasonNames, 4); }
 std::vector<std::string> switch_names(uint16_t switches) { return bit_names(switches, kSwitchNames, 11); }
 

@@ -19,7 +19,7 @@ std::string mode_name(uint8_t mode);     // config::Mode
 std::string calibration_name(uint8_t calibration);
 std::string status_name(uint8_t status);  // protocol::ReplyStatus
 std::vector<std::string> fault_names(uint32_t faults);         // core::FaultBit
-std::vector<std::string> reset_cause_names(uint8_t mcusr);     // power_on, external, brown_out, watchdog
+std::vector<std::string> reset_cause_names(uint8_t mcusr);     // power_on, external, brown_out, watchdog, jtag, inferred
 std::vector<std::string> slow_reason_names(uint8_t slowed_by);  // core::SlowReason
 std::vector<std::string> switch_names(uint16_t switches);       // j1_low, j1_high, ..., j6_zero
 // the JSON name of a frame type: state, reply, boot, or the command's name (stop, mode, ...);
