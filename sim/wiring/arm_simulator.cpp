@@ -8,6 +8,7 @@
 #include "atmega2560.h"
 #include "wiring/timer_decode.h"
 #include "avr_adc.h"
+#include "avr_eeprom.h"
 #include "avr_ioport.h"
 #include "avr_timer.h"
 #include "avr_uart.h"
@@ -545,6 +546,16 @@ void ArmSimulator::plant_step(uint64_t when) {
     const plant::Joints q = plant_.q();
     for (int j = 0; j < plant::kJoints; ++j) vcd_->set(vcd_q_[j], when, q[j]);
   }
+}
+
+void ArmSimulator::set_eeprom(const std::vector<uint8_t>& bytes) {
+  std::vector<uint8_t> copy(bytes);
+  avr_eeprom_desc_t d;
+  d.ee = copy.data();
+  d.offset = 0;
+  d.size = (uint32_t)copy.size();
+  // simavr 1.6 answers -1 when it took the image and -2 when it did not
+  if (avr_ioctl(core_->avr(), AVR_IOCTL_EEPROM_SET, &d) == -2) throw std::runtime_error("simavr refused the EEPROM image");
 }
 
 void ArmSimulator::after_reset() {

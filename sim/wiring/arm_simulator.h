@@ -105,6 +105,8 @@ class ArmSimulator {
   void set_joystick_unplugged(bool open);
   void set_pot_fault(int joint, plant::PotFault fault);  // joint index 1..3 (J2..J4)
   void send_serial(const std::vector<uint8_t>& bytes);   // queued, sent at the line's baud rate
+  // The chip's EEPROM from address 0, as an earlier firmware left it (before the first run)
+  void set_eeprom(const std::vector<uint8_t>& bytes);
 
   // --- time
   // Runs until the simulated time reaches t_s (or the core stops: halted or crashed).

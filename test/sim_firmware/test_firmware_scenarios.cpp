@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "config/joints_config.h"
+#include "core/joint_map.h"
 #include "firmware_rig.h"
 #include "kinematics/arm_model.h"
 #include "plant/arm_plant_config.h"
@@ -196,6 +197,44 @@ TEST(FirmwareCalibration, PotCalibrationByCommandIsCheckedKeptAndUndone) {
   ASSERT_EQ(calibrate(3, 0, 0), ReplyStatus::ok);
   EXPECT_EQ(rig.telemetry.calibrations().back().at_min_counts_x16[1], config_min);
   EXPECT_EQ(rig.telemetry.calibrations().back().from_command, 0);
+}
+
+// A settings block of version 1 (before pot_calibrated, when no command could set a
+// calibration): its poses are kept, its calibration is joints_config.h's.
+TEST(FirmwareCalibration, VersionOneSettingsKeepTheirPoses) {
+  Rig rig(kFirmware);
+  std::vector<uint8_t> data;
+  const auto put = [&](int64_t v, int bytes) {
+    for (int i = 0; i < bytes; ++i) data.push_back((uint8_t)(v >> (8 * i)));
+  };
+  for (int d = 0; d < 3; ++d) put(1000, 2);   // pot_at_min_counts_x16: not the config's 819
+  for (int d = 0; d < 3; ++d) put(15000, 2);  // pot_at_max_counts_x16
+  const double ready_deg[6] = {70, 20, -70, 50, -30, 0}, slot1_deg[6] = {60, 25, -65, 45, -35, 10};
+  for (int slot = 0; slot < 4; ++slot)
+    for (int j = 0; j < 6; ++j) put(std::llround((slot == 1 ? slot1_deg : ready_deg)[j] * M_PI / 180 * core::kAngleCountsPerRad), 4);
+  put(0x03, 1);  // pose_valid: slots 0 (the ready pose) and 1
+  ASSERT_EQ(data.size(), 109u);
+  std::vector<uint8_t> block = {'W', 'A', 1, (uint8_t)data.size(), (uint8_t)(data.size() >> 8)};  // eeprom_store.cpp
+  for (uint8_t b : data) block.push_back(b);
+  uint16_t crc = protocol::kCrcInit;
+  for (uint8_t b : block) crc = protocol::crc16_update(crc, b);
+  block.push_back((uint8_t)crc);
+  block.push_back((uint8_t)(crc >> 8));
+  rig.sim.set_eeprom(block);
+
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0);
+  ASSERT_FALSE(rig.telemetry.boots().empty());
+  EXPECT_EQ(rig.telemetry.boots()[0].calibration, (uint8_t)protocol::Calibration::eeprom);
+  rig.sim.send_serial(command(protocol::MsgType::cmd_get_calibration, 1));
+  rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 2, {1}));
+  rig.run_to(t_running + 4.0);
+  ASSERT_EQ(rig.telemetry.calibrations().size(), 1u);
+  const int16_t config_min = (int16_t)(config::kPotAtMin_mV * 1024L * 16 / config::kAdcRef_mV);
+  for (int d = 0; d < 3; ++d) EXPECT_EQ(rig.telemetry.calibrations()[0].at_min_counts_x16[d], config_min);
+  ASSERT_EQ(rig.telemetry.replies().size(), 2u);
+  EXPECT_EQ(rig.telemetry.replies()[1].status, (uint8_t)protocol::ReplyStatus::ok) << "slot 1 kept";
+  for (int j = 0; j < 6; ++j) EXPECT_NEAR(rig.sim.q()[j] * 180 / M_PI, slot1_deg[j], 1.5) << "joint " << j + 1;
 }
 
 }  // namespace
