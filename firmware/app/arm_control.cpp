@@ -169,13 +169,25 @@ Status g_status;
 
 // A stepper that was turning when its driver went off coasts on unheld (J1, with the arm on
 // it, 18 deg past its switch after the safety button at speed): its step count no longer says
-// where it is, so the steppers are homed again before the next motion.
+// where it is, so the steppers are homed again before the next motion. One that was only
+// creeping, slower than it stops from within one step at its ramp's acceleration (a position
+// correction of a step or two: J1 49, J5 285, J6 90 steps/s), keeps its count: J1 unheld slows
+// at about 1 rad/s^2 (from 0.8 rad/s to a stop in 17 deg), faster than its 0.6 rad/s^2 ramp,
+// and J5's gear holds itself. Re-homing for a creep made a stop during a steady hand motion
+// depend on whether a stepper happened to be correcting a step just then (the demo's stop in XZ:
+// J6 correcting a step, homing again instead of running after the re-arm).
+constexpr int32_t creep_q8(uint8_t i) {  // sqrt(2 a x 1 step), steps/s x 256
+  return (int32_t)(__builtin_sqrt(2.0 * kRampConfig[i].accel_steps_s2) * 256);
+}
+constexpr int32_t kCreepSpeed_q8[3] = {creep_q8(0), creep_q8(1), creep_q8(2)};
+
 WMRA_COLD void drives_off() {
   steppers::kill();
   bridges::all_off();
   for (uint8_t i = 0; i < 3; ++i) {
     steppers::Rate& r = steppers::rate(i);
-    if (r.moving()) g_homed = false;
+    const int32_t v = r.speed_q8();
+    if (v > kCreepSpeed_q8[i] || v < -kCreepSpeed_q8[i]) g_homed = false;
     r.halt();
     g_q[kStepperJoint[i]].set(kStepperMap[i].angle(r.position_steps()));
   }
