@@ -158,13 +158,13 @@ TEST(FirmwareMotion, S3FullStickInR1TurnsTheWristAboutTheHand) {
 // -1.25, 0, -0.46) rad/s: J2 lifts arm and payload, holding 69 % of its duty, and reaches
 // 0.44 rad/s at full duty (the firmware plans 0.36); after 0.25 rad J4 needs more than its
 // 1.6 rad/s, and after 0.85 rad the path reaches sin q3 = 0. About -x5, J3 needs 1.17 rad/s
-// (limit 1.0) after 0.25 rad and sin q3 = 0 comes after 0.55 rad. On a 10 deg grid of q2..q4 (q5 by 15 deg),
-// a 0.9 s turn within the speed limits, the drives' plans and outside the singular slow bands
-// exists only with q4 between -110 and -140 deg (link 4 folded back, 180 deg of J4 from the
-// ready pose), a pose no short stick drive reaches. The origin also moves, 22 mm: J2 runs at full
-// duty from 0.1 s in and falls 22 mrad behind while its reference accelerates towards the
-// planned 0.36 rad/s (the plan leaves 2 % duty at that load; the 3 rad/s^2 of the reference
-// asks for 18 %).
+// (limit 1.0) after 0.25 rad, and sin q3 = 0 comes after 0.55 rad. On a grid of q2..q4 by
+// 10 deg and q5 by 15 deg, a 0.9 s turn within the speed limits, the drives' plans and outside
+// the singular slow bands exists only with q4 between -110 and -140 deg (link 4 folded back,
+// 180 deg of J4 from the ready pose), a pose no short stick drive reaches. The origin also
+// moves, 17-26 mm with the loop's timing: J2 runs at full duty from 0.1 s in and falls 22 mrad
+// behind while its reference accelerates to the planned 0.36 rad/s (the plan leaves 2 % duty
+// at that load; accelerating at up to 3 rad/s^2 asks for up to 18 %).
 TEST(FirmwareMotion, DISABLED_S3FullStickInR2TurnsTheWristAboutTheHand) {
   ScenarioRun r;
   run("6.0 button press\n6.4 button press\n6.8 button press\n7.2 joystick 0 1\n8.7 joystick 0 0\n9.2 end\n", r);
