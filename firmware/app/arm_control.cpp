@@ -104,15 +104,24 @@ int32_t effort_for_duty(int32_t duty_q15) {
 }
 // the inertia's feedforward: duty per change of the reference speed in one tick, Q8 of
 // (Q15 duty per Q23 rad/s) x 2^16: J_worm x gear x loop rate / stall torque at the worm
-constexpr int32_t accel_feedforward_q8(uint8_t d) {
-  return (int32_t)(kDcInertiaAtWorm_gm2[d] / 1000.0 * kDcGear_tenths[d] / 10.0 * kLoopHz / (kDcStallTorque_cNm / 100.0) *
+constexpr int32_t accel_feedforward_q8(int16_t inertia_gm2, uint8_t d) {
+  return (int32_t)(inertia_gm2 / 1000.0 * kDcGear_tenths[d] / 10.0 * kLoopHz / (kDcStallTorque_cNm / 100.0) *
                        32768.0 / 8388608.0 * 65536.0 +
                    0.5);
 }
-constexpr int16_t kDcAccelFeedforward_q8[3] = {(int16_t)accel_feedforward_q8(0), (int16_t)accel_feedforward_q8(1),
-                                               (int16_t)accel_feedforward_q8(2)};
-static_assert(accel_feedforward_q8(0) < 32768 && accel_feedforward_q8(1) < 32768 && accel_feedforward_q8(2) < 32768,
+constexpr int16_t kDcAccelFeedforward_q8[3] = {(int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[0], 0),
+                                               (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[1], 1),
+                                               (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[2], 2)};
+static_assert(accel_feedforward_q8(kDcInertiaAtWorm_gm2[0], 0) < 32768 && accel_feedforward_q8(kDcInertiaAtWorm_gm2[1], 1) < 32768 &&
+                  accel_feedforward_q8(kDcInertiaAtWorm_gm2[2], 2) < 32768,
               "the inertia's feedforward fits 16 bits");
+// Slowing down, a self-locking worm stops the links itself: the drive brakes its rotor only.
+// With the whole inertia the braking feedforward took J2's effort away early enough that it
+// stopped 16 mrad short of its slowing reference (the hand 12 mm high after S1's release).
+constexpr int16_t brake_feedforward_q8(uint8_t d) {
+  return (int16_t)accel_feedforward_q8(kDcSelfLocking ? kDcRotorInertiaAtWorm_gm2 : kDcInertiaAtWorm_gm2[d], d);
+}
+constexpr int16_t kDcBrakeFeedforward_q8[3] = {brake_feedforward_q8(0), brake_feedforward_q8(1), brake_feedforward_q8(2)};
 
 // switch bits (inputs.h): 2j low, 2j+1 high; J6's zero switch is passed in normal motion
 constexpr uint16_t kSwitchesArmed = 0x3FF;
@@ -160,13 +169,21 @@ Status g_status;
 
 // A stepper that was turning when its driver went off coasts on unheld (J1, with the arm on
 // it, 18 deg past its switch after the safety button at speed): its step count no longer says
-// where it is, so the steppers are homed again before the next motion.
+// where it is, so the steppers are homed again before the next motion. One that was only
+// creeping, slower than it stops from within one step at its ramp's acceleration (a position
+// correction of a step or two: J1 49, J5 285, J6 90 steps/s; StepRate::stops_within_a_step),
+// keeps its count: J1 unheld slows at about 1 rad/s^2 (from 0.8 rad/s to a stop in 17 deg),
+// faster than its 0.6 rad/s^2 ramp, and J5's gear holds itself. Re-homing for a creep made a
+// stop during a steady hand motion depend on whether a stepper happened to be correcting a step
+// just then (the demo's stop in XZ: J6 correcting a step, homing again instead of running after
+// the re-arm).
+
 WMRA_COLD void drives_off() {
   steppers::kill();
   bridges::all_off();
   for (uint8_t i = 0; i < 3; ++i) {
     steppers::Rate& r = steppers::rate(i);
-    if (!r.stops_within_a_step()) g_homed = false;  // the rotor may coast on: home again
+    if (!r.stops_within_a_step()) g_homed = false;
     r.halt();
     g_q[kStepperJoint[i]].set(kStepperMap[i].angle(r.position_steps()));
   }
@@ -461,8 +478,9 @@ void dc_tick(uint8_t ticks) {
     // one tick's change at most the acceleration limit's (a larger one: the reference started
     // or stopped standing, or the loop overran), which fits 16 bits
     const int16_t accel = (int16_t)(change > kMaxDcChange ? kMaxDcChange : change < -kMaxDcChange ? -kMaxDcChange : change);
+    const bool slowing = (accel < 0) != (qd.raw < 0);  // the change opposes the speed
     const int32_t duty = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw) +
-                         (fx::mul_ss(accel, kDcAccelFeedforward_q8[d]) >> 16);
+                         (fx::mul_ss(accel, slowing ? kDcBrakeFeedforward_q8[d] : kDcAccelFeedforward_q8[d]) >> 16);
     const int32_t feedforward = effort_for_duty(duty);
     const int16_t feedforward_q15 = (int16_t)(feedforward > 32767 ? 32767 : feedforward < -32767 ? -32767 : feedforward);
     bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15, g_holding_effort_q15[d], ticks));

@@ -78,6 +78,10 @@ constexpr int16_t kDcFullDutySpeed_crad_s[3] = {198, 356, 445};
 // (gravity_config's point masses at the ready pose, about 1.5, 0.5 and 0.15 kg m^2 at J2..J4)
 // over the joint's gear squared. Too small only leaves some lag for the PID; too large leads.
 constexpr int16_t kDcInertiaAtWorm_gm2[3] = {120, 130, 90};
+// of which the rotor's, through the worm: a worm that does not back-drive (gravity_config's
+// kDcSelfLocking) stops the links itself when the motor slows, so slowing a reference down
+// brakes only the rotor (estimate, as above)
+constexpr int16_t kDcRotorInertiaAtWorm_gm2 = 50;
 // A DC reference slower than this stands (no feedforward; the servo may park): the drift
 // correction's trickle after the stick is let go, a pot count (3.4-6 mrad) in most of a second or slower.
 constexpr int16_t kDcStandingSpeed_mrad_s = 5;
@@ -152,6 +156,9 @@ static_assert(kDcFullDutySpeed_crad_s[0] >= 100 && kDcFullDutySpeed_crad_s[1] >=
 static_assert(kDcInertiaAtWorm_gm2[0] > 0 && kDcInertiaAtWorm_gm2[1] > 0 && kDcInertiaAtWorm_gm2[2] > 0 &&
                   kDcInertiaAtWorm_gm2[0] <= 1000 && kDcInertiaAtWorm_gm2[1] <= 1000 && kDcInertiaAtWorm_gm2[2] <= 1000,
               "DC inertia at the worm in (0, 1] kg m^2");
+static_assert(kDcRotorInertiaAtWorm_gm2 > 0 && kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[0] &&
+                  kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[1] && kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[2],
+              "the rotor's inertia is part of each drive's");
 static_assert(kDcStandingSpeed_mrad_s > 0 && kDcStandingSpeed_mrad_s <= 50, "DC standing speed in (0, 50] mrad/s");
 static_assert(kTrackingSlowFrom_mrad > 0 && kTrackingSlowFrom_mrad < kTrackingStopAt_mrad &&
                   kTrackingStopAt_mrad < kTrackingFault_mrad,
