@@ -277,10 +277,6 @@ core::DriveSpeeds g_drives = {{kLimits.joint_speed_rad_s[0], kLimits.joint_speed
                               {kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
                                kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]}};
 
-// u x without the product (~60 cycles) for x = 0, which it gives exactly: most of a mode's
-// twist is zero (XY: v.z and w; R1: v)
-fx::Real scaled(fx::Unit u, fx::Real x) { return x.raw == 0 ? x : u * x; }
-
 fx::Real clamp_real(fx::Real r, int32_t limit) {
   return fx::Real{r.raw > limit ? limit : r.raw < -limit ? -limit : r.raw};
 }
@@ -325,8 +321,8 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
     if (mode == config::Mode::gripper) gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
   }
   const fx::Unit factor = g_speed_scale * tracking_factor();
-  twist.v_m_s = {scaled(factor, twist.v_m_s.x), scaled(factor, twist.v_m_s.y), scaled(factor, twist.v_m_s.z)};
-  twist.w_rad_s = {scaled(factor, twist.w_rad_s.x), scaled(factor, twist.w_rad_s.y), scaled(factor, twist.w_rad_s.z)};
+  twist.v_m_s = {core::scaled(factor, twist.v_m_s.x), core::scaled(factor, twist.v_m_s.y), core::scaled(factor, twist.v_m_s.z)};
+  twist.w_rad_s = {core::scaled(factor, twist.w_rad_s.x), core::scaled(factor, twist.w_rad_s.y), core::scaled(factor, twist.w_rad_s.z)};
 
   // Drift correction: towards the integrated commanded position. The hand's position (FK,
   // ~1,000 cycles) every kDriftEvery_ticks only: the correction's time constant is
@@ -343,28 +339,29 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
                    clamp_real(fx::Real{(g_p_cmd.z - p.z).raw * kDriftGain_per_s}, kMaxCorrection)};
   }
   g_drift_ticks = (uint8_t)(g_drift_ticks + ticks >= kDriftEvery_ticks ? 0 : g_drift_ticks + ticks);
-  kin::Twist<Fixed> corrected = twist;
-  corrected.v_m_s.x = twist.v_m_s.x + g_drift_m_s.x;
-  corrected.v_m_s.y = twist.v_m_s.y + g_drift_m_s.y;
-  corrected.v_m_s.z = twist.v_m_s.z + g_drift_m_s.z;
+  // the correction goes into the twist in place (a copy of the twist is a 24-byte loop); the
+  // commanded velocity, without it, is what the commanded position integrates
+  const kin::Vec3<fx::Real> v_cmd = twist.v_m_s;
+  twist.v_m_s.x = v_cmd.x + g_drift_m_s.x;
+  twist.v_m_s.y = v_cmd.y + g_drift_m_s.y;
+  twist.v_m_s.z = v_cmd.z + g_drift_m_s.z;
 
-  const core::JointRates rates = core::resolved_rate(q, trig, corrected, kLimits, &g_drives);
+  const core::JointRates rates = core::resolved_rate(q, trig, twist, kLimits, &g_drives);
   g_status.slowed_by = rates.slowed_by;
   fx::Real max_change[6];  // one tick's is the table (32-bit products otherwise)
   if (ticks != 1) {
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
   }
   const fx::Unit k = core::limit_joint_acceleration(g_qd, rates.qd_rad_s, ticks == 1 ? kMaxSpeedChangePerTick : max_change);
-  g_v_m_s.x = g_v_m_s.x + scaled(k, scaled(rates.scale, twist.v_m_s.x) - g_v_m_s.x);
-  g_v_m_s.y = g_v_m_s.y + scaled(k, scaled(rates.scale, twist.v_m_s.y) - g_v_m_s.y);
-  g_v_m_s.z = g_v_m_s.z + scaled(k, scaled(rates.scale, twist.v_m_s.z) - g_v_m_s.z);
+  g_v_m_s.x = g_v_m_s.x + core::scaled(k, core::scaled(rates.scale, v_cmd.x) - g_v_m_s.x);
+  g_v_m_s.y = g_v_m_s.y + core::scaled(k, core::scaled(rates.scale, v_cmd.y) - g_v_m_s.y);
+  g_v_m_s.z = g_v_m_s.z + core::scaled(k, core::scaled(rates.scale, v_cmd.z) - g_v_m_s.z);
+  // the ticks that passed at once: each step times ticks is the same sum as a tick at a time
   constexpr core::Scale kPerTick = core::scale_for(1.0 / kLoopHz);
-  for (uint8_t n = 0; n < ticks; ++n) {
-    g_p_cmd.x.raw += core::apply(kPerTick, g_v_m_s.x.raw);
-    g_p_cmd.y.raw += core::apply(kPerTick, g_v_m_s.y.raw);
-    g_p_cmd.z.raw += core::apply(kPerTick, g_v_m_s.z.raw);
-    for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(g_qd[j]);
-  }
+  g_p_cmd.x.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.x.raw), ticks);
+  g_p_cmd.y.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.y.raw), ticks);
+  g_p_cmd.z.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.z.raw), ticks);
+  for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(g_qd[j], ticks);
   for (uint8_t i = 0; i < 3; ++i) {
     const uint8_t j = kStepperJoint[i];
     const int32_t error = kStepperMap[i].steps(g_q[j].angle) - steppers::rate(i).position_steps();

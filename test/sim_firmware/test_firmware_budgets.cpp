@@ -119,8 +119,10 @@ TEST(FirmwareBudgets, EveryIsrWithinItsWorstCase) {
 // The DC joints' gravity model and load-aware speed limits, and servos that count ticks, added
 // ~2,300 cycles a mean iteration.
 constexpr uint64_t kIterationTarget_cycles = 8000;
-constexpr double kIterationMeanBudget_cycles = 26500;   // [25,678]
-constexpr uint64_t kIterationMaxBudget_cycles = 37000;  // [33,666]
+// Byte-wise shifts in the joint maps' scales and one product for the ticks that passed (both
+// bit-identical) took the mean from 25,436 to 24,802 and the worst from 34,043 to 32,674.
+constexpr double kIterationMeanBudget_cycles = 25500;   // [24,802]
+constexpr uint64_t kIterationMaxBudget_cycles = 33700;  // [32,674]
 
 // The stick deflected in XY, XZ and R1 after start-up; every iteration that ends while the
 // stick is deflected counts. The simulator keeps D49's running sums, so each iteration is read
