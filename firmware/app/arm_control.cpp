@@ -281,6 +281,19 @@ fx::Real clamp_real(fx::Real r, int32_t limit) {
   return fx::Real{r.raw > limit ? limit : r.raw < -limit ? -limit : r.raw};
 }
 
+// the drift correction's velocity for a position error (Q23 m): error x gain, within the
+// largest correction. Beyond the largest / gain the product is clamped anyway, and within it
+// the error fits 16 bits: one 16x16 product (a 32-bit one is a library call, ~100 cycles).
+constexpr int32_t kMaxCorrection = (int32_t)(kDriftMaxCorrection_mm_s / 1000.0 * core::kRealPerRad);
+constexpr int32_t kMaxCorrectedError = kDriftGain_per_s > 0 ? kMaxCorrection / kDriftGain_per_s : 0;
+static_assert(kMaxCorrectedError < 65536, "the drift correction's error within its clamp fits 16 bits");
+fx::Real drift_correction(int32_t error) {
+  if (error > kMaxCorrectedError) return fx::Real{kDriftGain_per_s > 0 ? kMaxCorrection : 0};
+  if (error < -kMaxCorrectedError) return fx::Real{kDriftGain_per_s > 0 ? -kMaxCorrection : 0};
+  const int32_t c = (int32_t)fx::mul_uu((uint16_t)(error < 0 ? -error : error), (uint16_t)kDriftGain_per_s);
+  return fx::Real{error < 0 ? -c : c};
+}
+
 kin::Twist<Fixed> velocity_twist(const Requests& rq) {
   constexpr int32_t kRealPerMilli = 8389;  // Q23 per 1/1000 (m/s from mm/s, rad/s from mrad/s)
   constexpr int32_t kHand = fx::real(kMaxHandSpeed_m_s).raw, kWrist = fx::real(kMaxWristSpeed_rad_s).raw;
@@ -331,12 +344,10 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   // together, so the held correction has no lag term of its own.
   constexpr uint8_t kDriftEvery_ticks = 4;
   static_assert(kDriftEvery_ticks * kDriftGain_per_s <= 1000 / 20, "the correction updated 20 times per time constant");
-  constexpr int32_t kMaxCorrection = (int32_t)(kDriftMaxCorrection_mm_s / 1000.0 * core::kRealPerRad);
   if (g_drift_ticks == 0) {
     const kin::Vec3<fx::Real> p = kin::hand_position<Fixed>(trig);
-    g_drift_m_s = {clamp_real(fx::Real{(g_p_cmd.x - p.x).raw * kDriftGain_per_s}, kMaxCorrection),
-                   clamp_real(fx::Real{(g_p_cmd.y - p.y).raw * kDriftGain_per_s}, kMaxCorrection),
-                   clamp_real(fx::Real{(g_p_cmd.z - p.z).raw * kDriftGain_per_s}, kMaxCorrection)};
+    g_drift_m_s = {drift_correction((g_p_cmd.x - p.x).raw), drift_correction((g_p_cmd.y - p.y).raw),
+                   drift_correction((g_p_cmd.z - p.z).raw)};
   }
   g_drift_ticks = (uint8_t)(g_drift_ticks + ticks >= kDriftEvery_ticks ? 0 : g_drift_ticks + ticks);
   // the correction goes into the twist in place (a copy of the twist is a 24-byte loop); the
@@ -358,9 +369,10 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   g_v_m_s.z = g_v_m_s.z + core::scaled(k, core::scaled(rates.scale, v_cmd.z) - g_v_m_s.z);
   // the ticks that passed at once: each step times ticks is the same sum as a tick at a time
   constexpr core::Scale kPerTick = core::scale_for(1.0 / kLoopHz);
-  g_p_cmd.x.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.x.raw), ticks);
-  g_p_cmd.y.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.y.raw), ticks);
-  g_p_cmd.z.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.z.raw), ticks);
+  // (a component at rest, most of a mode's, moves nothing: no product)
+  if (g_v_m_s.x.raw != 0) g_p_cmd.x.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.x.raw), ticks);
+  if (g_v_m_s.y.raw != 0) g_p_cmd.y.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.y.raw), ticks);
+  if (g_v_m_s.z.raw != 0) g_p_cmd.z.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.z.raw), ticks);
   for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(g_qd[j], ticks);
   for (uint8_t i = 0; i < 3; ++i) {
     const uint8_t j = kStepperJoint[i];
@@ -564,7 +576,9 @@ void iterate(Requests& rq, uint8_t ticks) {
 
   // --- checks
   for (uint8_t d = 0; d < 3; ++d) {
-    g_dc_units[d] = (int32_t)adc[kAdcPot + d] * kPositionUnitsPerCount;
+    // a 16-bit product (10-bit counts x 16): a 32-bit one is a shift loop
+    static_assert(1023 * kPositionUnitsPerCount < 32768, "pot units of a 10-bit reading fit 16 bits");
+    g_dc_units[d] = (int16_t)(adc[kAdcPot + d] * kPositionUnitsPerCount);
     const uint8_t flags = g_servo[d].check(g_dc_units[d], ticks);
     if (flags) g_faults |= core::dc_joint_faults(d, flags);  // a 32-bit shift by a run-time count is a loop
   }

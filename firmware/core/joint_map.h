@@ -85,7 +85,11 @@ inline int32_t times_power_of_two(int32_t p, int8_t e) {
   return p >> n;
 }
 
-inline int32_t apply(Scale s, int32_t x) { return times_power_of_two(fx::mul_q15(x, s.m), s.e); }
+// x m / 2^15 2^e; for e < 0 one bit of the shift goes into the product (mul_q16, which keeps
+// bytes 2-5 of it, where mul_q15 shifts them all one bit): the same floor
+inline int32_t apply(Scale s, int32_t x) {
+  return s.e < 0 ? times_power_of_two(fx::mul_q16(x, s.m), (int8_t)(s.e + 1)) : times_power_of_two(fx::mul_q15(x, s.m), s.e);
+}
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kAngleCountsPerRad = fx::kAngleTurn / (2 * kPi);
