@@ -333,7 +333,9 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
     twist = core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
     if (mode == config::Mode::gripper) gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
   }
-  const fx::Unit factor = g_speed_scale * tracking_factor();
+  // both are one most of the time, and so is the factor: core::scaled then needs no product
+  const fx::Unit tracking = tracking_factor();
+  const fx::Unit factor = g_speed_scale.raw == fx::kUnitOne ? tracking : g_speed_scale * tracking;
   twist.v_m_s = {core::scaled(factor, twist.v_m_s.x), core::scaled(factor, twist.v_m_s.y), core::scaled(factor, twist.v_m_s.z)};
   twist.w_rad_s = {core::scaled(factor, twist.w_rad_s.x), core::scaled(factor, twist.w_rad_s.y), core::scaled(factor, twist.w_rad_s.z)};
 
