@@ -272,10 +272,10 @@ fx::Unit tracking_factor() {
 // What each joint's drive can do now (updated with the holding effort): a DC joint lifting its
 // load has the duty beyond its holding effort and the reserve; the steppers' ramps follow their
 // speed limits.
-core::DriveSpeeds g_drives = {{kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
-                               kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]},
-                              {kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
-                               kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]}};
+core::DriveSpeeds g_drives = {{kLimits.joint[0].speed_rad_s, kLimits.joint[1].speed_rad_s, kLimits.joint[2].speed_rad_s,
+                               kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s},
+                              {kLimits.joint[0].speed_rad_s, kLimits.joint[1].speed_rad_s, kLimits.joint[2].speed_rad_s,
+                               kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s}};
 
 fx::Real clamp_real(fx::Real r, int32_t limit) {
   return fx::Real{r.raw > limit ? limit : r.raw < -limit ? -limit : r.raw};
@@ -318,6 +318,16 @@ void gripper_tick(int16_t stick_y_q15, uint8_t ticks) {
   if (g_gripper_us_q15 < kMin) g_gripper_us_q15 = kMin;
   if (g_gripper_us_q15 > kMax) g_gripper_us_q15 = kMax;
   tick::set_servo_pulse_us((uint16_t)(g_gripper_us_q15 >> 15));
+}
+
+// A stepper's ramp follows its joint's reference. One copy per stepper: with the stepper a
+// constant its scales' shifts are constants too (a shift by a run-time count is a loop).
+template <uint8_t kStepper>
+void track_stepper() {
+  constexpr uint8_t j = kStepperJoint[kStepper];
+  steppers::Rate& rate = steppers::rate(kStepper);
+  const int32_t error = kStepperMap[kStepper].steps(g_q[j].angle) - rate.position_steps();
+  rate.set_speed(core::tracking_speed_steps_s(kTracking[kStepper], kStepperMap[kStepper].speed_steps_s(g_qd[j]), error));
 }
 
 __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
@@ -376,12 +386,9 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   if (g_v_m_s.y.raw != 0) g_p_cmd.y.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.y.raw), ticks);
   if (g_v_m_s.z.raw != 0) g_p_cmd.z.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.z.raw), ticks);
   for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(g_qd[j], ticks);
-  for (uint8_t i = 0; i < 3; ++i) {
-    const uint8_t j = kStepperJoint[i];
-    const int32_t error = kStepperMap[i].steps(g_q[j].angle) - steppers::rate(i).position_steps();
-    const int32_t speed = core::tracking_speed_steps_s(kTracking[i], kStepperMap[i].speed_steps_s(g_qd[j]), error);
-    steppers::rate(i).set_speed(speed);
-  }
+  track_stepper<0>();
+  track_stepper<1>();
+  track_stepper<2>();
 }
 
 // Every joint's reference where the joint is: a DC joint that arrived within

@@ -198,7 +198,7 @@ TEST(ResolvedRate, SoftJointLimitStopsBeforeTheSwitch) {
 // limits are lifted here: whether a pose allows full wrist speed is another question.)
 TEST(StickTwist, EveryModeMovesTheHandAsTheSpecSays) {
   core::MotionLimits limits = kLimits;
-  for (auto& v : limits.joint_speed_rad_s) v = fx::real(10.0);
+  for (auto& l : limits.joint) l.speed_rad_s = fx::real(10.0);
   const ref::Joints q = {0.2, 0.6, 1.0, -0.4, 0.5, 0.3};
   const auto qf = to_fixed(q);
   const auto trig = kin::arm_trig<Fixed>(qf);
