@@ -336,12 +336,12 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   const kin::ArmTrig<Fixed> trig = kin::arm_trig<Fixed>(q);
 
   const config::Mode mode = g_supervisor.mode();
-  kin::Twist<Fixed> twist;
-  if (rq.velocity_fresh) {
-    twist = velocity_twist(rq);
-  } else {
-    twist = core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
-    if (mode == config::Mode::gripper) gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
+  // initialised from the call (an assignment copied the returned twist, a 24-byte loop)
+  kin::Twist<Fixed> twist = rq.velocity_fresh
+                                ? velocity_twist(rq)
+                                : core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
+  if (!rq.velocity_fresh && mode == config::Mode::gripper) {
+    gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
   }
   // both are one most of the time, and so is the factor: core::scaled then needs no product
   const fx::Unit tracking = tracking_factor();
