@@ -289,17 +289,26 @@ fx::Unit tracking_factor() {
 // What each joint's drive can do now (updated with the holding effort): a DC joint lifting its
 // load has the duty beyond its holding effort and the reserve; the steppers' ramps follow their
 // speed limits.
-core::DriveSpeeds g_drives = {{kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
-                               kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]},
-                              {kLimits.joint_speed_rad_s[0], kLimits.joint_speed_rad_s[1], kLimits.joint_speed_rad_s[2],
-                               kLimits.joint_speed_rad_s[3], kLimits.joint_speed_rad_s[4], kLimits.joint_speed_rad_s[5]}};
-
-// u x without the product (~60 cycles) for x = 0, which it gives exactly: most of a mode's
-// twist is zero (XY: v.z and w; R1: v)
-fx::Real scaled(fx::Unit u, fx::Real x) { return x.raw == 0 ? x : u * x; }
+core::DriveSpeeds g_drives = {{kLimits.joint[0].speed_rad_s, kLimits.joint[1].speed_rad_s, kLimits.joint[2].speed_rad_s,
+                               kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s},
+                              {kLimits.joint[0].speed_rad_s, kLimits.joint[1].speed_rad_s, kLimits.joint[2].speed_rad_s,
+                               kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s}};
 
 fx::Real clamp_real(fx::Real r, int32_t limit) {
   return fx::Real{r.raw > limit ? limit : r.raw < -limit ? -limit : r.raw};
+}
+
+// the drift correction's velocity for a position error (Q23 m): error x gain, within the
+// largest correction. Beyond the largest / gain the product is clamped anyway, and within it
+// the error fits 16 bits: one 16x16 product (a 32-bit one is a library call, ~100 cycles).
+constexpr int32_t kMaxCorrection = (int32_t)(kDriftMaxCorrection_mm_s / 1000.0 * core::kRealPerRad);
+constexpr int32_t kMaxCorrectedError = kDriftGain_per_s > 0 ? kMaxCorrection / kDriftGain_per_s : 0;
+static_assert(kMaxCorrectedError < 65536, "the drift correction's error within its clamp fits 16 bits");
+fx::Real drift_correction(int32_t error) {
+  if (error > kMaxCorrectedError) return fx::Real{kDriftGain_per_s > 0 ? kMaxCorrection : 0};
+  if (error < -kMaxCorrectedError) return fx::Real{kDriftGain_per_s > 0 ? -kMaxCorrection : 0};
+  const int32_t c = (int32_t)fx::mul_uu((uint16_t)(error < 0 ? -error : error), (uint16_t)kDriftGain_per_s);
+  return fx::Real{error < 0 ? -c : c};
 }
 
 kin::Twist<Fixed> velocity_twist(const Requests& rq) {
@@ -328,22 +337,34 @@ void gripper_tick(int16_t stick_y_q15, uint8_t ticks) {
   tick::set_servo_pulse_us((uint16_t)(g_gripper_us_q15 >> 15));
 }
 
+// A stepper's ramp follows its joint's reference. One copy per stepper: with the stepper a
+// constant its scales' shifts are constants too (a shift by a run-time count is a loop).
+template <uint8_t kStepper>
+void track_stepper() {
+  constexpr uint8_t j = kStepperJoint[kStepper];
+  steppers::Rate& rate = steppers::rate(kStepper);
+  const int32_t error = kStepperMap[kStepper].steps(g_q[j].angle) - rate.position_steps();
+  rate.set_speed(core::tracking_speed_steps_s(kTracking[kStepper], kStepperMap[kStepper].speed_steps_s(g_qd[j]), error));
+}
+
 __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
   const kin::ArmTrig<Fixed> trig = kin::arm_trig<Fixed>(q);
 
   const config::Mode mode = g_supervisor.mode();
-  kin::Twist<Fixed> twist;
-  if (rq.velocity_fresh) {
-    twist = velocity_twist(rq);
-  } else {
-    twist = core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
-    if (mode == config::Mode::gripper) gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
+  // initialised from the call (an assignment copied the returned twist, a 24-byte loop)
+  kin::Twist<Fixed> twist = rq.velocity_fresh
+                                ? velocity_twist(rq)
+                                : core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
+  if (!rq.velocity_fresh && mode == config::Mode::gripper) {
+    gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
   }
-  const fx::Unit factor = g_speed_scale * tracking_factor();
-  twist.v_m_s = {scaled(factor, twist.v_m_s.x), scaled(factor, twist.v_m_s.y), scaled(factor, twist.v_m_s.z)};
-  twist.w_rad_s = {scaled(factor, twist.w_rad_s.x), scaled(factor, twist.w_rad_s.y), scaled(factor, twist.w_rad_s.z)};
+  // both are one most of the time, and so is the factor: core::scaled then needs no product
+  const fx::Unit tracking = tracking_factor();
+  const fx::Unit factor = g_speed_scale.raw == fx::kUnitOne ? tracking : g_speed_scale * tracking;
+  twist.v_m_s = {core::scaled(factor, twist.v_m_s.x), core::scaled(factor, twist.v_m_s.y), core::scaled(factor, twist.v_m_s.z)};
+  twist.w_rad_s = {core::scaled(factor, twist.w_rad_s.x), core::scaled(factor, twist.w_rad_s.y), core::scaled(factor, twist.w_rad_s.z)};
 
   // Drift correction: towards the integrated commanded position. The hand's position (FK,
   // ~1,000 cycles) every kDriftEvery_ticks only: the correction's time constant is
@@ -352,42 +373,39 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   // together, so the held correction has no lag term of its own.
   constexpr uint8_t kDriftEvery_ticks = 4;
   static_assert(kDriftEvery_ticks * kDriftGain_per_s <= 1000 / 20, "the correction updated 20 times per time constant");
-  constexpr int32_t kMaxCorrection = (int32_t)(kDriftMaxCorrection_mm_s / 1000.0 * core::kRealPerRad);
   if (g_drift_ticks == 0) {
     const kin::Vec3<fx::Real> p = kin::hand_position<Fixed>(trig);
-    g_drift_m_s = {clamp_real(fx::Real{(g_p_cmd.x - p.x).raw * kDriftGain_per_s}, kMaxCorrection),
-                   clamp_real(fx::Real{(g_p_cmd.y - p.y).raw * kDriftGain_per_s}, kMaxCorrection),
-                   clamp_real(fx::Real{(g_p_cmd.z - p.z).raw * kDriftGain_per_s}, kMaxCorrection)};
+    g_drift_m_s = {drift_correction((g_p_cmd.x - p.x).raw), drift_correction((g_p_cmd.y - p.y).raw),
+                   drift_correction((g_p_cmd.z - p.z).raw)};
   }
   g_drift_ticks = (uint8_t)(g_drift_ticks + ticks >= kDriftEvery_ticks ? 0 : g_drift_ticks + ticks);
-  kin::Twist<Fixed> corrected = twist;
-  corrected.v_m_s.x = twist.v_m_s.x + g_drift_m_s.x;
-  corrected.v_m_s.y = twist.v_m_s.y + g_drift_m_s.y;
-  corrected.v_m_s.z = twist.v_m_s.z + g_drift_m_s.z;
+  // the correction goes into the twist in place (a copy of the twist is a 24-byte loop); the
+  // commanded velocity, without it, is what the commanded position integrates
+  const kin::Vec3<fx::Real> v_cmd = twist.v_m_s;
+  twist.v_m_s.x = v_cmd.x + g_drift_m_s.x;
+  twist.v_m_s.y = v_cmd.y + g_drift_m_s.y;
+  twist.v_m_s.z = v_cmd.z + g_drift_m_s.z;
 
-  const core::JointRates rates = core::resolved_rate(q, trig, corrected, kLimits, &g_drives);
+  const core::JointRates rates = core::resolved_rate(q, trig, twist, kLimits, &g_drives);
   g_status.slowed_by = rates.slowed_by;
   fx::Real max_change[6];  // one tick's is the table (32-bit products otherwise)
   if (ticks != 1) {
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
   }
   const fx::Unit k = core::limit_joint_acceleration(g_qd, rates.qd_rad_s, ticks == 1 ? kMaxSpeedChangePerTick : max_change);
-  g_v_m_s.x = g_v_m_s.x + scaled(k, scaled(rates.scale, twist.v_m_s.x) - g_v_m_s.x);
-  g_v_m_s.y = g_v_m_s.y + scaled(k, scaled(rates.scale, twist.v_m_s.y) - g_v_m_s.y);
-  g_v_m_s.z = g_v_m_s.z + scaled(k, scaled(rates.scale, twist.v_m_s.z) - g_v_m_s.z);
+  g_v_m_s.x = g_v_m_s.x + core::scaled(k, core::scaled(rates.scale, v_cmd.x) - g_v_m_s.x);
+  g_v_m_s.y = g_v_m_s.y + core::scaled(k, core::scaled(rates.scale, v_cmd.y) - g_v_m_s.y);
+  g_v_m_s.z = g_v_m_s.z + core::scaled(k, core::scaled(rates.scale, v_cmd.z) - g_v_m_s.z);
+  // the ticks that passed at once: each step times ticks is the same sum as a tick at a time
   constexpr core::Scale kPerTick = core::scale_for(1.0 / kLoopHz);
-  for (uint8_t n = 0; n < ticks; ++n) {
-    g_p_cmd.x.raw += core::apply(kPerTick, g_v_m_s.x.raw);
-    g_p_cmd.y.raw += core::apply(kPerTick, g_v_m_s.y.raw);
-    g_p_cmd.z.raw += core::apply(kPerTick, g_v_m_s.z.raw);
-    for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(g_qd[j]);
-  }
-  for (uint8_t i = 0; i < 3; ++i) {
-    const uint8_t j = kStepperJoint[i];
-    const int32_t error = kStepperMap[i].steps(g_q[j].angle) - steppers::rate(i).position_steps();
-    const int32_t speed = core::tracking_speed_steps_s(kTracking[i], kStepperMap[i].speed_steps_s(g_qd[j]), error);
-    steppers::rate(i).set_speed(speed);
-  }
+  // (a component at rest, most of a mode's, moves nothing: no product)
+  if (g_v_m_s.x.raw != 0) g_p_cmd.x.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.x.raw), ticks);
+  if (g_v_m_s.y.raw != 0) g_p_cmd.y.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.y.raw), ticks);
+  if (g_v_m_s.z.raw != 0) g_p_cmd.z.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.z.raw), ticks);
+  for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(g_qd[j], ticks);
+  track_stepper<0>();
+  track_stepper<1>();
+  track_stepper<2>();
 }
 
 // Every joint's reference where the joint is: a DC joint that arrived within
@@ -590,7 +608,9 @@ void iterate(Requests& rq, uint8_t ticks) {
 
   // --- checks
   for (uint8_t d = 0; d < 3; ++d) {
-    g_dc_units[d] = (int32_t)adc[kAdcPot + d] * kPositionUnitsPerCount;
+    // a 16-bit product (10-bit counts x 16): a 32-bit one is a shift loop
+    static_assert(1023 * kPositionUnitsPerCount < 32768, "pot units of a 10-bit reading fit 16 bits");
+    g_dc_units[d] = (int16_t)(adc[kAdcPot + d] * kPositionUnitsPerCount);
     const uint8_t flags = g_servo[d].check(g_dc_units[d], ticks);
     if (flags) g_faults |= core::dc_joint_faults(d, flags);  // a 32-bit shift by a run-time count is a loop
   }

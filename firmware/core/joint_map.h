@@ -56,15 +56,51 @@ inline Scale scale_for_ratio(uint32_t num, uint32_t den) {
   return m >= 32768 ? Scale{16384, (int8_t)(e + 1)} : Scale{(int16_t)m, e};
 }
 
+// p 2^e. avr-gcc shifts a 32-bit value by any count but 8, 16 and 24 in a loop, ~6 cycles a
+// bit (the position per tick's 2^-9 was 60 cycles): whole bytes first, as register moves, the
+// empty asm keeping the compiler from folding them back into one shift; a loop of at most 7
+// bits remains. The same result as one shift (an arithmetic shift right is a floor, and
+// floors compose).
+inline int32_t times_power_of_two(int32_t p, int8_t e) {
+  if (e >= 0) {
+    uint8_t n = (uint8_t)e;
+    if (n >= 8) {
+      p = (int32_t)((uint32_t)p << 8);
+      asm("" : "+r"(p));
+      n = (uint8_t)(n - 8);
+    }
+    return (int32_t)((uint32_t)p << n);
+  }
+  uint8_t n = (uint8_t)-e;
+  if (n >= 16) {
+    p >>= 16;
+    asm("" : "+r"(p));
+    n = (uint8_t)(n - 16);
+  }
+  if (n >= 8) {
+    p >>= 8;
+    asm("" : "+r"(p));
+    n = (uint8_t)(n - 8);
+  }
+  return p >> n;
+}
+
+// x m / 2^15 2^e; for e < 0 one bit of the shift goes into the product (mul_q16, which keeps
+// bytes 2-5 of it, where mul_q15 shifts them all one bit): the same floor
 inline int32_t apply(Scale s, int32_t x) {
-  const int32_t p = fx::mul_q15(x, s.m);
-  return s.e >= 0 ? p << s.e : p >> -s.e;
+  return s.e < 0 ? times_power_of_two(fx::mul_q16(x, s.m), (int8_t)(s.e + 1)) : times_power_of_two(fx::mul_q15(x, s.m), s.e);
 }
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kAngleCountsPerRad = fx::kAngleTurn / (2 * kPi);
 constexpr double kRealPerRad = 8388608.0;  // fx::Real is Q23
 constexpr double kLoopHz = 1000.0;
+
+// a step per control tick over the `ticks` that passed: one tick, or two after an overrun,
+// need no product (a 32-bit one is a library call, ~70 cycles)
+inline int32_t ticks_times(int32_t per_tick, uint8_t ticks) {
+  return ticks == 1 ? per_tick : ticks == 2 ? per_tick + per_tick : per_tick * ticks;
+}
 
 // A velocity in rad/s (Q23) as Angle counts per control tick, Q16 (the fraction is carried)
 constexpr Scale kRateToAngleQ16PerTick = scale_for(kAngleCountsPerRad / kRealPerRad / kLoopHz * 65536.0);
@@ -78,9 +114,11 @@ struct AngleAccumulator {
     angle = a;
     fraction = 0;
   }
-  // one control tick at qd
-  void advance(fx::Real qd_rad_s) {
-    const int32_t delta_q16 = apply(kRateToAngleQ16PerTick, qd_rad_s.raw) + fraction;
+  // `ticks` control ticks at qd: the same as one tick at a time (the sum of the per-tick
+  // steps is exact, and the floor of the carried fraction composes), at one product
+  void advance(fx::Real qd_rad_s, uint8_t ticks = 1) {
+    const int32_t per_tick_q16 = apply(kRateToAngleQ16PerTick, qd_rad_s.raw);
+    const int32_t delta_q16 = ticks_times(per_tick_q16, ticks) + fraction;
     angle.raw += delta_q16 >> 16;  // arithmetic shift: floor, the fraction stays in [0, 1)
     fraction = (uint16_t)delta_q16;
   }

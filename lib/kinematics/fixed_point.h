@@ -380,6 +380,16 @@ inline int32_t mul_q15(int32_t x, int16_t c) {
       : [x] "r"(x), [c] "r"(c));
   return r;
 }
+// floor of the same product / 2^16: bytes 2-5 as they are, without mul_q15's final shift
+// (equal to mul_q15(x, c) >> 1; joint_map.h's scales with a negative exponent use it)
+inline int32_t mul_q16(int32_t x, int16_t c) {
+  int32_t r;
+  uint8_t t, z;
+  asm("clr   %[z]\n\t" WMRA_MUL32X16_SET_ASM(x, c) "clr   __zero_reg__\n\t" WMRA_SIGNS32X16_ASM(x, c, 1, 2)
+      : [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z)
+      : [x] "r"(x), [c] "r"(c));
+  return r;
+}
 inline int32_t dot_q15(int16_t a, int32_t x, int16_t b, int32_t y) {
   int32_t r;
   uint8_t t, z;
@@ -395,6 +405,7 @@ inline int64_t product_without_low_bytes(int32_t x, int32_t c) {
   return (int64_t)x * c - (int64_t)(x & 0xFF) * (c & 0xFF);
 }
 inline int32_t mul_q15(int32_t x, int16_t c) { return (int32_t)(product_without_low_bytes(x, c) >> 15); }
+inline int32_t mul_q16(int32_t x, int16_t c) { return (int32_t)(product_without_low_bytes(x, c) >> 16); }
 inline int32_t dot_q15(int16_t a, int32_t x, int16_t b, int32_t y) {
   return (int32_t)((product_without_low_bytes(x, a) + product_without_low_bytes(y, b)) >> 15);
 }

@@ -42,6 +42,7 @@ void check_products(vectors::Lcg& rng) {
     const int16_t c = random_unit(rng), d = random_unit(rng);
     const uint16_t cu = (uint16_t)(rng.next() >> 16);
     check("q15", x, c, fx::mul_q15(x, c), (int32_t)(without_low_bytes(x, c) >> 15));
+    check("q16", x, c, fx::mul_q16(x, c), (int32_t)(without_low_bytes(x, c) >> 16));
     const int32_t want_dot = (int32_t)((without_low_bytes(x, c) + without_low_bytes(y, d)) >> 15);
     check("dot", x, y, fx::dot_q15(c, x, d, y), want_dot);
     const fx::Recip k{cu, (uint8_t)(1 << (n & 7)), (n & 8) != 0};

@@ -58,3 +58,28 @@ TEST(StepperMap, StepsOfAnAngleIsTheNearestStep) {
 }
 
 }  // namespace
+
+namespace {
+
+// apply(s, x) is one 32x16 product and a shift, written for the AVR as bytes (joint_map.h):
+// against the plain formula in 64-bit arithmetic, floor((x m - lo8(x) lo8(m)) 2^(e - 15)), with a
+// left shift wrapping in 32 bits as the single shift it replaces did, over random operands and
+// every exponent the firmware's scales can have. Counter-based, seeded: deterministic.
+TEST(Scale, ApplyIsTheProductShiftedOnce) {
+  uint64_t state = 0x9E3779B97F4A7C15ull;
+  auto next = [&state]() {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return (uint32_t)(state >> 32);
+  };
+  int wrong = 0;
+  for (int n = 0; n < 200000; ++n) {
+    const int32_t x = (int32_t)next() >> (n % 24);
+    const core::Scale s{(int16_t)(16384 + (next() & 16383)), (int8_t)(n % 33 - 24)};  // e in [-24, 8]
+    const int64_t product = (int64_t)x * s.m - (int64_t)(x & 0xFF) * (s.m & 0xFF);
+    const int32_t want = s.e >= 0 ? (int32_t)((uint32_t)(int32_t)(product >> 15) << s.e) : (int32_t)(product >> (15 - s.e));
+    if (core::apply(s, x) != want && wrong++ < 5) ADD_FAILURE() << "x " << x << " m " << s.m << " e " << (int)s.e;
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
+}  // namespace

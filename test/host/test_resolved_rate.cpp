@@ -103,6 +103,38 @@ TEST(ResolvedRate, OneCommonScaleKeepsDirectionAndLimits) {
   EXPECT_LT(worst_angle, 1e-3);
 }
 
+// The common scale is applied as core::scaled: s = kUnitOne (nothing limited) leaves J^-1's
+// rates as they are, where the product took 2^-15 off them; a smaller s is the product. Against
+// the product for every s (the arithmetic before), over random poses and twists from slow to
+// beyond the limits: the unlimited rates differ by at most |qd| 2^-15 plus the product's floor
+// and its two steps of rounding (fixed_point.h): three steps.
+TEST(ResolvedRate, UnlimitedRatesAreJInverseItself) {
+  std::mt19937_64 rng(33);
+  std::uniform_real_distribution<double> v(-0.6, 0.6), w(-3, 3), size(0.01, 1.0);
+  int unlimited = 0, limited = 0;
+  double worst_relative = 0;
+  for (int n = 0; n < 5000; ++n) {
+    const auto q = ref::random_joints(rng);
+    const double k = size(rng) * size(rng);
+    const auto t = twist(k * v(rng), k * v(rng), k * v(rng), k * w(rng), k * w(rng), k * w(rng));
+    const auto r = rates(q, t);
+    const auto inv = kin::inverse_jacobian<Fixed>(to_fixed(q), t);
+    const bool one = r.scale.raw == fx::kUnitOne;
+    unlimited += one;
+    limited += !one;
+    for (int j = 0; j < 6; ++j) {
+      const int32_t qd = inv.qd_rad_s[j].raw, product = (r.scale * inv.qd_rad_s[j]).raw;
+      EXPECT_EQ(r.qd_rad_s[j].raw, one ? qd : product) << "pose " << n << " joint " << j + 1;
+      const double difference = std::abs((double)r.qd_rad_s[j].raw - product);
+      EXPECT_LE(difference, std::abs((double)qd) / 32768 + 3) << "pose " << n << " joint " << j + 1;
+      if (std::abs(qd) >= 65536) worst_relative = std::max(worst_relative, difference / std::abs((double)qd));
+    }
+  }
+  std::printf("%d unlimited, %d limited; worst difference to the product %.2e of |qd| (|qd| >= 2^-7 rad/s)\n", unlimited, limited, worst_relative);
+  EXPECT_GT(unlimited, 1000);
+  EXPECT_GT(limited, 1000);
+}
+
 // Stretching the elbow (q3 -> 0) by pulling the hand outwards, slowly enough that no joint
 // reaches its speed limit: the speed falls as (|s3| - damp) / (slow - damp), to zero at the
 // edge of the damped band; joint speeds stay within their limits, and the opposite command
@@ -166,7 +198,7 @@ TEST(ResolvedRate, SoftJointLimitStopsBeforeTheSwitch) {
 // limits are lifted here: whether a pose allows full wrist speed is another question.)
 TEST(StickTwist, EveryModeMovesTheHandAsTheSpecSays) {
   core::MotionLimits limits = kLimits;
-  for (auto& v : limits.joint_speed_rad_s) v = fx::real(10.0);
+  for (auto& l : limits.joint) l.speed_rad_s = fx::real(10.0);
   const ref::Joints q = {0.2, 0.6, 1.0, -0.4, 0.5, 0.3};
   const auto qf = to_fixed(q);
   const auto trig = kin::arm_trig<Fixed>(qf);
