@@ -491,10 +491,14 @@ void dc_tick(uint8_t ticks) {
     // no effort of a motion, the servo parks and follows it a count at a time
     const fx::Real qd_raw = g_qd[kDcJoint[d]];
     const fx::Real qd = qd_raw.raw < kStandingSpeed && qd_raw.raw > -kStandingSpeed ? fx::Real{0} : qd_raw;
-    const int32_t change = qd.raw - g_dc_qd_prev[d].raw;
+    // the change per tick: an overrun call spans `ticks` of them (a halved term every other
+    // call at 800 Hz otherwise); the division only past two ticks, which is rare
+    int32_t change = qd.raw - g_dc_qd_prev[d].raw;
+    if (ticks == 2) change >>= 1;
+    else if (ticks > 2) change /= ticks;
     g_dc_qd_prev[d] = qd;
     // one tick's change at most the acceleration limit's (a larger one: the reference started
-    // or stopped standing, or the loop overran), which fits 16 bits
+    // or stopped standing), which fits 16 bits
     const int16_t accel = (int16_t)(change > kMaxDcChange ? kMaxDcChange : change < -kMaxDcChange ? -kMaxDcChange : change);
     const bool slowing = (accel < 0) != (qd.raw < 0);  // the change opposes the speed
     const int32_t duty = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw) +
