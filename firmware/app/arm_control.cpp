@@ -491,11 +491,12 @@ void dc_tick(uint8_t ticks) {
     // no effort of a motion, the servo parks and follows it a count at a time
     const fx::Real qd_raw = g_qd[kDcJoint[d]];
     const fx::Real qd = qd_raw.raw < kStandingSpeed && qd_raw.raw > -kStandingSpeed ? fx::Real{0} : qd_raw;
-    // the change per tick: an overrun call spans `ticks` of them (a halved term every other
-    // call at 800 Hz otherwise); the division only past two ticks, which is rare
+    // the change per tick: an overrun call spans `ticks` of them (a halved term on every
+    // two-tick call otherwise, one in five at 830 Hz). Past two ticks (rare, and only in the
+    // longest iterations, which a 32-bit division would lengthen) a quarter: the clamp below
+    // bounds what that overstates.
     int32_t change = qd.raw - g_dc_qd_prev[d].raw;
-    if (ticks == 2) change >>= 1;
-    else if (ticks > 2) change /= ticks;
+    if (ticks > 1) change >>= (ticks == 2 ? 1 : 2);
     g_dc_qd_prev[d] = qd;
     // one tick's change at most the acceleration limit's (a larger one: the reference started
     // or stopped standing), which fits 16 bits

@@ -128,9 +128,11 @@ constexpr uint64_t kIterationTarget_cycles = 8000;
 // limits in one struct and one copy of the stepper tracking per stepper (constant shifts), to
 // 23,149 and 30,938; the twist initialised from the call rather than assigned (a 24-byte copy
 // loop), to 22,930 and 30,851; two ticks' steps as a sum rather than a library product, to
-// 22,351 and 30,486.
-constexpr double kIterationMeanBudget_cycles = 23000;   // [22,351]
-constexpr uint64_t kIterationMaxBudget_cycles = 31400;  // [30,486]
+// 22,351 and 30,486. The DC reference's acceleration taken per tick on overrun calls: 22,605
+// and 29,655 (32,936 while the calls past two ticks divided: three 32-bit divisions in the
+// longest iterations). The worst's budget keeps the 10 % it moves by with the timing.
+constexpr double kIterationMeanBudget_cycles = 23300;   // [22,605]
+constexpr uint64_t kIterationMaxBudget_cycles = 33000;  // [29,655]
 
 // The stick deflected in XY, XZ and R1 after start-up; every iteration that ends while the
 // stick is deflected counts. The simulator keeps D49's running sums, so each iteration is read
