@@ -194,12 +194,16 @@ WMRA_COLD void drives_off() {
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
 }
 
+// The DC references start at rest where the joints are (a stop at speed left their last speeds,
+// whose change would be one tick's braking feedforward), the load for this pose at once.
 WMRA_COLD void drives_on() {
   for (uint8_t d = 0; d < 3; ++d) {
     g_servo[d].rest(g_dc_units[d]);
     g_q[kDcJoint[d]].set(g_pot[d].angle(g_dc_units[d]));
     g_dc_reference_units[d] = g_dc_units[d];
+    g_dc_qd_prev[d] = fx::Real{0};
   }
+  g_holding_ticks_left = 0;
   for (uint8_t i = 0; i < 3; ++i) g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::rate(i).position_steps()));
   steppers::enable_drivers(true);
 }
@@ -493,8 +497,8 @@ void dc_tick(uint8_t ticks) {
     const fx::Real qd = qd_raw.raw < kStandingSpeed && qd_raw.raw > -kStandingSpeed ? fx::Real{0} : qd_raw;
     // the change per tick: an overrun call spans `ticks` of them (a halved term on every
     // two-tick call otherwise, one in five at 830 Hz). Past two ticks (rare, and only in the
-    // longest iterations, which a 32-bit division would lengthen) a quarter: the clamp below
-    // bounds what that overstates.
+    // longest iterations, which a 32-bit division would lengthen) a quarter: three ticks'
+    // understates by a quarter, more than four overstate, bounded by the clamp below.
     int32_t change = qd.raw - g_dc_qd_prev[d].raw;
     if (ticks > 1) change >>= (ticks == 2 ? 1 : 2);
     g_dc_qd_prev[d] = qd;

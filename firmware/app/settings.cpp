@@ -1,5 +1,7 @@
 #include "app/settings.h"
 
+#include <stddef.h>
+
 #include "config/joints_config.h"
 #include "kinematics/fixed_trig.h"
 
@@ -12,13 +14,17 @@ using namespace config;
 constexpr int16_t kConfigAtMin_counts_x16 = (int16_t)((int32_t)kPotAtMin_mV * 1024 * kPositionUnitsPerCount / kAdcRef_mV);
 constexpr int16_t kConfigAtMax_counts_x16 = (int16_t)((int32_t)kPotAtMax_mV * 1024 * kPositionUnitsPerCount / kAdcRef_mV);
 
-// a pot across the 10-bit ADC's range, its limits at least 200 counts apart (a quarter of
-// the range: less would leave a count worth more than ~0.5 deg of the joint)
-bool plausible(int16_t at_min, int16_t at_max) {
-  return at_min >= 0 && at_max <= 1023 * 16 && at_max - at_min >= 200 * 16;
+// Both readings within the 10-bit ADC's range, the upper limit's at least 600 counts above the
+// lower's (in 32 bits: int is 16 on the AVR, and a difference of two int16 overflows it). The
+// tracking thresholds are in pot units (15 mrad slows the hand, 50 stops it): with J4's 320 deg
+// over 600 counts a count is 9.3 mrad, and the slow threshold stays above 1.5 counts of noise.
+constexpr int16_t kMaxReading_counts_x16 = 1023 * 16;
+constexpr int32_t kMinSpan_counts_x16 = 600 * 16;
+constexpr bool plausible(int16_t at_min, int16_t at_max) {
+  return at_min >= 0 && at_min <= kMaxReading_counts_x16 && at_max >= 0 && at_max <= kMaxReading_counts_x16 &&
+         (int32_t)at_max - at_min >= kMinSpan_counts_x16;
 }
-static_assert(kConfigAtMin_counts_x16 >= 0 && kConfigAtMax_counts_x16 <= 1023 * 16 &&
-                  kConfigAtMax_counts_x16 - kConfigAtMin_counts_x16 >= 200 * 16,
+static_assert(plausible(kConfigAtMin_counts_x16, kConfigAtMax_counts_x16),
               "joints_config.h's pot calibration passes the check a person's calibration does");
 
 // the config's values for the joints nobody calibrated
@@ -49,10 +55,12 @@ bool plausible(const Settings& s) {
 
 // Version 1 was this block without pot_calibrated, and no command could set its calibration:
 // its poses are kept and its calibration is the config's.
+constexpr uint16_t kVersion1Bytes = offsetof(Settings, pot_calibrated);
+static_assert(kVersion1Bytes == 6 * 2 + kPoseSlots * 6 * 4 + 1, "version 1's fields, packed as avr-gcc packs them");
 eeprom_store::LoadResult load_settings(Settings& s) {
   eeprom_store::LoadResult r = eeprom_store::load(kSettingsVersion, &s, sizeof s);
   if (r == eeprom_store::LoadResult::other_version &&
-      eeprom_store::load(1, &s, sizeof s - sizeof s.pot_calibrated) == eeprom_store::LoadResult::loaded) {
+      eeprom_store::load(1, &s, kVersion1Bytes) == eeprom_store::LoadResult::loaded) {
     s.pot_calibrated = 0;
     r = eeprom_store::LoadResult::loaded;
   }

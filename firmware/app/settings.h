@@ -1,6 +1,7 @@
 // What the arm keeps across power cycles, in EEPROM (lib/drivers/eeprom_store.h): the DC
 // joints' potentiometer calibration and the stored poses. Defaults come from the config when
-// the EEPROM is blank, corrupt or from another layout version. A joint's calibration is kept
+// the EEPROM is blank, corrupt or from another layout version (version 1 keeps its poses: the
+// layout only grew by a byte at the end). A joint's calibration is kept
 // only once a person set it (cmd_pot_calibration); until then it follows joints_config.h at
 // every boot, so that an edited config takes effect on the next flash although flashing
 // leaves the EEPROM as it was.

@@ -175,6 +175,10 @@ TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
       {"calibrate 3 1459 15564",
        "{\"type\":\"command\",\"command\":\"pot_calibration\",\"seq\":0,\"joint\":3,\"at_min_counts_x16\":1459,"
        "\"at_max_counts_x16\":15564}"},
+      // J3 (-135..160 deg) read 6000 at 0 deg and 8000 at 60: 33.3 a degree
+      {"calibrate-from 3 6000 0 8000 60",
+       "{\"type\":\"command\",\"command\":\"pot_calibration\",\"seq\":0,\"joint\":3,\"at_min_counts_x16\":1500,"
+       "\"at_max_counts_x16\":11333}"},
   };
   std::vector<uint8_t> all;
   std::string expected;
@@ -195,7 +199,7 @@ TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
   CliRun r = cli("decode", path);  // stdin
   EXPECT_EQ(r.status, 0);
   EXPECT_EQ(r.out, expected);
-  EXPECT_EQ(r.err, "wmra-telemetry: frames 11, crc errors 0, framing errors 0, skipped bytes 1, seq gaps 0\n");
+  EXPECT_EQ(r.err, "wmra-telemetry: frames 12, crc errors 0, framing errors 0, skipped bytes 1, seq gaps 0\n");
   r = cli("decode " + path);  // a file
   EXPECT_EQ(r.out, expected);
   EXPECT_EQ(cli("encode stop").out, "a50110000017b1\n");  // the CRC by hand: docs/telemetry.md
@@ -240,6 +244,11 @@ TEST(WmraTelemetryCli, BadInputExitsWithTwo) {
       "encode calibrate 3 800",
       "encode calibrate 3 -1 15000",
       "encode calibrate 3 800 16369",
+      "encode calibrate-from 3 6000 0 8000 5",
+      "encode calibrate-from 3 5000 -30 12000 90",
+      "encode calibrate-from 3 8000 0 6000 60",
+      "encode calibrate-from 3 6000 x 8000 60",
+      "encode calibrate-from 3 6000 0 8000",
       "encode stop --seq 256",
       "encode stop --seq",
       "decode a b",

@@ -162,9 +162,11 @@ TEST(FirmwareCalibration, PotCalibrationByCommandIsCheckedKeptAndUndone) {
   ASSERT_EQ(rig.state(), core::ArmState::stopped);
   const double q3_before_mrad = rig.last().q_mrad[2];
   EXPECT_EQ(calibrate(5, new_min, config_max), ReplyStatus::bad_argument) << "J5 has no pot";
-  EXPECT_EQ(calibrate(3, config_min, (int16_t)(config_min + 199 * 16)), ReplyStatus::bad_argument)
-      << "limits under 200 counts apart";
+  EXPECT_EQ(calibrate(3, config_min, (int16_t)(config_min + 599 * 16)), ReplyStatus::bad_argument)
+      << "limits under 600 counts apart";
   EXPECT_EQ(calibrate(3, -16, config_max), ReplyStatus::bad_argument) << "below the ADC's range";
+  EXPECT_EQ(calibrate(3, 10000, -30000), ReplyStatus::bad_argument) << "a span that overflows 16 bits";
+  EXPECT_EQ(calibrate(3, config_min, (int16_t)(1024 * 16)), ReplyStatus::bad_argument) << "above the ADC's range";
   EXPECT_EQ(rig.telemetry.calibrations().size(), 1u) << "a refused change sends no calibration";
 
   ASSERT_EQ(calibrate(3, new_min, config_max), ReplyStatus::ok);

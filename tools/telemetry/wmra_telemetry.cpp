@@ -5,8 +5,10 @@
 //                                             a command frame as lowercase hex (armsim's "serial HEX")
 //       stop | rearm | home | mode xy|xz|r1|r2|gripper | speed PCT | goto SLOT | store SLOT
 //       | velocity VX VY VZ WX WY WZ          (m/s and rad/s, base frame)
-//       | calibration | calibrate J AT_MIN AT_MAX
-//                                             read / set a DC joint's pot calibration (J 2..4, counts x 16)
+//       | calibration | calibrate J AT_MIN AT_MAX | calibrate-from J READING1 DEG1 READING2 DEG2
+//                                             read / set a DC joint's pot calibration (J 2..4, counts x 16);
+//                                             calibrate-from extrapolates the limits' readings from two
+//                                             readings at measured angles
 //   wmra-telemetry listen DEVICE [--send HEX [--every MS]]
 //                                             a serial port at 115200 8N1, decoded live until Ctrl-C;
 //                                             HEX is sent once the firmware's first frame has arrived,
@@ -31,6 +33,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include "kinematics/arm_model.h"
 #include "telemetry_json.h"
 
 using namespace wmra;
@@ -51,6 +54,7 @@ const char kUsage[] =
     "         COMMAND: stop | rearm | home | mode xy|xz|r1|r2|gripper | speed PCT | goto SLOT | store SLOT\n"
     "                  | velocity VX VY VZ WX WY WZ   (m/s, rad/s, base frame)\n"
     "                  | calibration | calibrate J AT_MIN AT_MAX   (J 2..4; pot counts x 16; 0 0: the config's)\n"
+    "                  | calibrate-from J READING1 DEG1 READING2 DEG2   (two readings at measured angles)\n"
     "       wmra-telemetry listen DEVICE [--send HEX [--every MS]]\n";
 
 // a whole number in [lo, hi]
@@ -89,6 +93,45 @@ std::vector<uint8_t> parse_hex(const std::string& hex) {
   return bytes;
 }
 
+// a number (an angle in degrees), finite
+double parse_double(const std::string& word, const std::string& what) {
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(word.c_str(), &end);
+  if (word.empty() || *end || errno == ERANGE || !std::isfinite(v)) throw BadInput{what + " must be a number, not '" + word + "'"};
+  return v;
+}
+
+constexpr long kMaxReading_counts_x16 = 1023 * 16;
+
+// calibrate J AT_MIN AT_MAX
+protocol::PotCalibrationCmd pot_calibration(const std::vector<std::string>& words) {
+  return protocol::PotCalibrationCmd{(uint8_t)parse_int(words[1], 2, 4, "J (the joint)"),
+                                     (int16_t)parse_int(words[2], 0, kMaxReading_counts_x16, "AT_MIN (pot counts x 16)"),
+                                     (int16_t)parse_int(words[3], 0, kMaxReading_counts_x16, "AT_MAX (pot counts x 16)")};
+}
+
+// calibrate-from J READING1 DEG1 READING2 DEG2: the pot is linear in the joint angle, so the
+// readings at the limits (lib/kinematics/arm_model.h) lie on the line through the two points.
+// The soft limits keep a joint 3 deg inside its limits, so a joint cannot be driven there to be
+// read; two readings at angles measured with an inclinometer can be taken anywhere.
+protocol::PotCalibrationCmd pot_calibration_from(const std::vector<std::string>& words) {
+  const int joint = (int)parse_int(words[1], 2, 4, "J (the joint)");
+  const double r1 = (double)parse_int(words[2], 0, kMaxReading_counts_x16, "READING1 (pot counts x 16)");
+  const double a1 = parse_double(words[3], "DEG1");
+  const double r2 = (double)parse_int(words[4], 0, kMaxReading_counts_x16, "READING2 (pot counts x 16)");
+  const double a2 = parse_double(words[5], "DEG2");
+  if (std::fabs(a2 - a1) < 10) throw BadInput{"DEG1 and DEG2 must be at least 10 deg apart"};
+  const double per_deg = (r2 - r1) / (a2 - a1);
+  const long at_min = std::lround(r1 + (arm::q_min_deg[joint - 1] - a1) * per_deg);
+  const long at_max = std::lround(r1 + (arm::q_max_deg[joint - 1] - a1) * per_deg);
+  if (at_min < 0 || at_max > kMaxReading_counts_x16 || at_max <= at_min) {
+    throw BadInput{"the limits' readings come out at " + std::to_string(at_min) + " and " + std::to_string(at_max) +
+                   ": outside 0.." + std::to_string(kMaxReading_counts_x16) + " or the wrong way round (check the pot's wiring)"};
+  }
+  return protocol::PotCalibrationCmd{(uint8_t)joint, (int16_t)at_min, (int16_t)at_max};
+}
+
 // The command frame for "COMMAND ARG..." (--seq already taken out)
 std::string encode(const std::vector<std::string>& words, uint8_t seq) {
   struct Command {
@@ -101,6 +144,7 @@ std::string encode(const std::vector<std::string>& words, uint8_t seq) {
       {"mode", MsgType::cmd_mode, 1},         {"speed", MsgType::cmd_speed_scale, 1}, {"goto", MsgType::cmd_goto_pose, 1},
       {"store", MsgType::cmd_store_pose, 1}, {"velocity", MsgType::cmd_velocity, 6},
       {"calibration", MsgType::cmd_get_calibration, 0}, {"calibrate", MsgType::cmd_pot_calibration, 3},
+      {"calibrate-from", MsgType::cmd_pot_calibration, 5},
   };
   if (words.empty()) throw BadInput{"encode wants a command"};
   const std::string& word = words[0];
@@ -139,10 +183,8 @@ std::string encode(const std::vector<std::string>& words, uint8_t seq) {
       break;
     }
     case MsgType::cmd_pot_calibration: {
-      const protocol::PotCalibrationCmd c{(uint8_t)parse_int(words[1], 2, 4, "J (the joint)"),
-                                         (int16_t)parse_int(words[2], 0, 1023 * 16, "AT_MIN (pot counts x 16)"),
-                                         (int16_t)parse_int(words[3], 0, 1023 * 16, "AT_MAX (pot counts x 16)")};
-      len = protocol::encode(c, payload);
+      const protocol::PotCalibrationCmd p = c->args == 3 ? pot_calibration(words) : pot_calibration_from(words);
+      len = protocol::encode(p, payload);
       break;
     }
     default: break;  // no argument
