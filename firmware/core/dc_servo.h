@@ -118,9 +118,9 @@ class DcServo {
   // count at a time pulses the effort by Kp a count (J4: 7 % against the 3 % that lowers it at
   // 0.2 rad/s), and every pulse into the zero band stopped the worm dead, so J2 and J4, lowering
   // their loads, went in stops and starts 5-13 mrad wide (the hand 4-6 mm off S1's line, by the
-  // loop's timing). At the stiction's duty the joint moves on at its slowest (about half of
-  // such a reference's speed), so the reference draws level again; ahead by more, the PID's
-  // duty stands, stop or reverse.
+  // loop's timing). At the stiction's duty the joint moves on at its slowest (J4 0.1 rad/s
+  // against S1's 0.2, J2 0.04 against 0.1), so the reference draws level again; ahead by more
+  // (a reference slower than that), the PID's duty stands: stop or reverse.
   int16_t keep_moving(int16_t duty_q15, uint8_t direction, int32_t e) const {
     const int16_t min_q15 = c_.pid.min_duty_q15;
     if (direction == 0) return duty_q15 < min_q15 && e > -c_.park_units ? min_q15 : duty_q15;
