@@ -195,7 +195,7 @@ WMRA_COLD void drives_off() {
 }
 
 // The DC references start at rest where the joints are (a stop at speed left their last speeds,
-// whose change would be one tick's braking feedforward), the load for this pose at once.
+// whose change would be one tick's braking feedforward).
 WMRA_COLD void drives_on() {
   for (uint8_t d = 0; d < 3; ++d) {
     g_servo[d].rest(g_dc_units[d]);
@@ -203,7 +203,6 @@ WMRA_COLD void drives_on() {
     g_dc_reference_units[d] = g_dc_units[d];
     g_dc_qd_prev[d] = fx::Real{0};
   }
-  g_holding_ticks_left = 0;
   for (uint8_t i = 0; i < 3; ++i) g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::rate(i).position_steps()));
   steppers::enable_drivers(true);
 }
@@ -481,6 +480,9 @@ constexpr int32_t kMaxDcChange = kMaxSpeedChangePerTick[1].raw > kMaxSpeedChange
                                                                                                       : kMaxSpeedChangePerTick[3].raw);
 static_assert(kMaxDcChange < 32768, "a DC reference's change of speed in one tick fits 16 bits");
 
+constexpr uint8_t kOverrunTicks = 8;  // past this many a call is one (the term is bounded below)
+constexpr int16_t kOneOverTicks[kOverrunTicks + 1] = {0, 32767, 16384, 10923, 8192, 6554, 5461, 4681, 4096};
+
 void dc_tick(uint8_t ticks) {
   if (g_holding_ticks_left-- == 0) {
     g_holding_ticks_left = kHoldingPeriod_ticks - 1;
@@ -496,11 +498,12 @@ void dc_tick(uint8_t ticks) {
     const fx::Real qd_raw = g_qd[kDcJoint[d]];
     const fx::Real qd = qd_raw.raw < kStandingSpeed && qd_raw.raw > -kStandingSpeed ? fx::Real{0} : qd_raw;
     // the change per tick: an overrun call spans `ticks` of them (a halved term on every
-    // two-tick call otherwise, one in five at 830 Hz). Past two ticks (rare, and only in the
-    // longest iterations, which a 32-bit division would lengthen) a quarter: three ticks'
-    // understates by a quarter, more than four overstate, bounded by the clamp below.
+    // two-tick call otherwise, one in five at 830 Hz). Past two ticks (after the longest
+    // iterations, which a 32-bit division would lengthen further) a product by 1/ticks; a
+    // quarter instead moved S1's line by 0.6 mm.
     int32_t change = qd.raw - g_dc_qd_prev[d].raw;
-    if (ticks > 1) change >>= (ticks == 2 ? 1 : 2);
+    if (ticks == 2) change >>= 1;
+    else if (ticks > 2) change = (fx::Unit{kOneOverTicks[ticks < kOverrunTicks ? ticks : kOverrunTicks]} * fx::Real{change}).raw;
     g_dc_qd_prev[d] = qd;
     // one tick's change at most the acceleration limit's (a larger one: the reference started
     // or stopped standing), which fits 16 bits

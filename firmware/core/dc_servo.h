@@ -8,7 +8,8 @@
 // error stays out of twice the band for unpark_ticks (one noisy reading at a count's edge
 // must not start the motor) or the reference moves; holding with the integral's effort would
 // draw current (about 20 A stretched) for nothing. A moving reference never parks: a slow one
-// would otherwise stop and restart on every pot count (stick-slip).
+// would otherwise stop and restart on every pot count (stick-slip); nor does the duty drop below
+// the stiction's while the joint is less than park_units ahead of it (keep_moving).
 //
 // Holding effort: the worm does not let the load drive the joint, so a joint that lifts its
 // load needs a large effort before it moves at all (J3 lifting the stretched forearm and the
@@ -103,6 +104,7 @@ class DcServo {
     }
     applied_ = c_.use_relay ? relay_.update(reference_units, measured_units)
                             : pid_.update(reference_units, measured_units, feedforward_q15, ticks);
+    if (!still && !c_.use_relay) applied_ = keep_moving(applied_, direction, e);
     if (!still) holding_q15_[direction] = (int16_t)(pid_.integral_q23() >> 8);
     return applied_;
   }
@@ -111,6 +113,20 @@ class DcServo {
   int16_t applied() const { return applied_; }
 
  private:
+  // A moving reference: the duty stays at least the stiction's in the reference's direction
+  // while the joint is less than park_units ahead of it. The PID's P on a reading that steps a
+  // count at a time pulses the effort by Kp a count (J4: 7 % against the 3 % that lowers it at
+  // 0.2 rad/s), and every pulse into the zero band stopped the worm dead, so J2 and J4, lowering
+  // their loads, went in stops and starts 5-13 mrad wide (the hand 4-6 mm off S1's line, by the
+  // loop's timing). At the stiction's duty the joint moves on at its slowest (J4 0.1 rad/s
+  // against S1's 0.2, J2 0.04 against 0.1), so the reference draws level again; ahead by more
+  // (a reference slower than that), the PID's duty stands: stop or reverse.
+  int16_t keep_moving(int16_t duty_q15, uint8_t direction, int32_t e) const {
+    const int16_t min_q15 = c_.pid.min_duty_q15;
+    if (direction == 0) return duty_q15 < min_q15 && e > -c_.park_units ? min_q15 : duty_q15;
+    return duty_q15 > -min_q15 && e < c_.park_units ? (int16_t)-min_q15 : duty_q15;
+  }
+
   DcServoConfig c_{};
   control::Pid pid_;
   control::Relay relay_;

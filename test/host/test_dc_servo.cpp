@@ -83,4 +83,29 @@ TEST(DcServo, AStandingReferenceBelowGetsNoHoldingEffort) {
   EXPECT_LE(std::abs(joint.read() - reference), kUnitsPerCount);
 }
 
+// A reference lowering the joint with a small feedforward (the load helps a worm down: S1's J2
+// and J4): the PID's P on a reading a fraction of a count ahead outweighs it and took the duty
+// into the zero band or reversed it, and the worm stopped dead. While the joint is less than
+// park_units ahead of a moving reference, the duty stays at least the stiction's along the
+// reference; ahead by more, the PID's duty stands (stop or reverse).
+TEST(DcServo, AMovingReferenceKeepsAJointLessThanACountAheadMoving) {
+  core::DcServo servo;
+  ASSERT_TRUE(servo.configure(config()));
+  const int32_t reading = 5000;
+  servo.rest(reading);
+  const int16_t feedforward_q15 = -700;  // 2 % effort downwards
+  // the reference half a count above the reading, going down by a unit a tick until a count below
+  for (int32_t reference = reading + kUnitsPerCount / 2; reference > reading - kUnitsPerCount; --reference) {
+    const int16_t duty = servo.update(reference, reading, feedforward_q15, 0);
+    EXPECT_LE(duty, -kMinDuty_q15) << "reference " << reference - reading << " units from the reading";
+  }
+  // the joint two counts ahead: the PID's duty, against the motion
+  core::DcServo ahead;
+  ASSERT_TRUE(ahead.configure(config()));
+  ahead.rest(reading);
+  int16_t duty = 0;
+  for (int k = 0; k < 10; ++k) duty = ahead.update(reading + 2 * kUnitsPerCount - k, reading, feedforward_q15, 0);
+  EXPECT_GT(duty, 0) << "ahead by more than park_units, the PID stops or reverses the joint";
+}
+
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "armsim/firmware_telemetry.h"
@@ -112,21 +113,34 @@ void expect_straight_line(const ScenarioRun& r, double t0, int axis) {
 // and of its drive's planned speed.
 constexpr const char* kPullIn = "6.0 joystick 0 -1\n7.0 joystick 0 0\n";  // in XY, 0.14 m towards the base
 
-TEST(FirmwareMotion, S1FullStickInXYMovesTheHandAlongX) {
-  ScenarioRun r;
-  run(std::string(kPullIn) + "8.0 joystick 1 0\n10.0 joystick 0 0\n11.0 end\n", r);
-  EXPECT_EQ(r.at(9.0).mode, 0) << "XY";
-  expect_straight_line(r, 8.0, 0);
-  report_after_release(r, 10.0, 0);
+// The loop runs at about 830 Hz in iterations of one or two 1 ms ticks, so where the stick's
+// first sample falls within them moves with every change of the code. A line held only at one
+// timing is luck: S1 and S2 are each run with the stick's start (and release) shifted by
+// 0, 2, 5 and 6 x 1.3 ms (the figures still from t0 = 8 s), and every run must meet SPEC 9.
+// (On main before the DC servo kept lowering joints moving, S1 was 4.2, 4.7, 4.0 and 5.9 mm off
+// its axis at these shifts.)
+constexpr int kShifts[] = {0, 2, 5, 6};
+constexpr double kShiftStep_s = 0.0013;
+
+// the stick at `stick` from 8 s + the shift for 2 s, after the pull-in (and `before`)
+void expect_straight_line_at_shifts(const std::string& before, const char* stick, int axis, int mode) {
+  for (int k : kShifts) {
+    SCOPED_TRACE("stick shifted by " + std::to_string(k) + " x 1.3 ms");
+    char events[128];
+    std::snprintf(events, sizeof events, "%.4f joystick %s\n%.4f joystick 0 0\n11.0 end\n", 8.0 + k * kShiftStep_s, stick,
+                  10.0 + k * kShiftStep_s);
+    ScenarioRun r;
+    run(std::string(kPullIn) + before + events, r);
+    EXPECT_EQ(r.at(9.0).mode, mode);
+    std::printf("shift %d: ", k);
+    expect_straight_line(r, 8.0, axis);
+    report_after_release(r, 10.0, axis);
+  }
 }
 
-TEST(FirmwareMotion, S2FullStickInXZMovesTheHandAlongZ) {
-  ScenarioRun r;
-  run(std::string(kPullIn) + "7.5 button press\n8.0 joystick 0 1\n10.0 joystick 0 0\n11.0 end\n", r);
-  EXPECT_EQ(r.at(9.0).mode, 1) << "XZ";
-  expect_straight_line(r, 8.0, 2);
-  report_after_release(r, 10.0, 2);
-}
+TEST(FirmwareMotion, S1FullStickInXYMovesTheHandAlongX) { expect_straight_line_at_shifts("", "1 0", 0, 0); }
+
+TEST(FirmwareMotion, S2FullStickInXZMovesTheHandAlongZ) { expect_straight_line_at_shifts("7.5 button press\n", "0 1", 2, 1); }
 
 // S3: full stick in R1 (then R2): the wrist turns at 0.8 rad/s +-10 % (mean over 1 s after the
 // ramps) while the frame-6 origin stays within 5 mm of where it was.
@@ -174,3 +188,4 @@ TEST(FirmwareMotion, DISABLED_S3FullStickInR2TurnsTheWristAboutTheHand) {
 }
 
 }  // namespace
+
