@@ -71,7 +71,9 @@ class PlausibilityMonitor {
   // One sample: the duty applied during the sample that ends now, and the reading. samples:
   // the sample periods it spans (a caller that overran): the counts advance by that many, and
   // the joint may have moved that many steps. Returns the latched flags.
-  uint8_t update(int16_t duty_q15, int32_t position, uint8_t samples = 1) {
+  // Not inlined: one copy serves the three DC joints (inlined in the caller's loop it took the
+  // registers of the code around it).
+  __attribute__((noinline)) uint8_t update(int16_t duty_q15, int32_t position, uint8_t samples = 1) {
     if (!configured_) return faults_;
     if (position < c_.rail_low || position > c_.rail_high) {
       rail_count_ = rail_count_ > 255 - samples ? (uint8_t)255 : (uint8_t)(rail_count_ + samples);
