@@ -171,19 +171,17 @@ class StepRate {
   // stepping_dir: the direction of the edge the channel still has scheduled (0: stopped); the
   // speed leaves 0 the other way only once that edge is made.
   StepPlan plan(uint8_t ticks, int8_t stepping_dir) {
-    // < 2^31: accel_too_high bounds it (one tick without a product: the usual case; two
-    // hardware products otherwise, the same value modulo 2^32 as the 32-bit library product)
-    const int32_t dv = ticks == 1 ? (int32_t)k_.dv_q8_per_tick : mul_i32_u8((int32_t)k_.dv_q8_per_tick, ticks);
     int32_t want = want_q8_;
     uint16_t steps_left = kNoStop;
     if (has_target_) {
-      if (!approach_target(dv, ticks, stepping_dir, want, steps_left)) return StepPlan{0, 0};
+      if (!approach_target(dv_q8(ticks), ticks, stepping_dir, want, steps_left)) return StepPlan{0, 0};
     } else if ((want > 0 && position_ >= kPositionLimit) || (want < 0 && position_ <= -kPositionLimit)) {
       want = 0;  // the count saturates, never wraps (15 hours at 20 kHz from zero)
     }
     // At the wanted speed already (a speed command held, or at rest): the steps below leave
     // it as it is, since a speed not 0 is never below the slowest one.
     if (want == v_q8_) return want == 0 ? StepPlan{0, 0} : StepPlan{interval_q8_, steps_left};
+    const int32_t dv = dv_q8(ticks);
     int32_t v = v_q8_;
     if ((v > 0 && want < 0) || (v < 0 && want > 0)) want = 0;  // reversals through rest
     if (v == 0 && ((stepping_dir > 0 && want < 0) || (stepping_dir < 0 && want > 0))) want = 0;
@@ -273,6 +271,12 @@ class StepRate {
     return next < (uint32_t)k_.v_min_q8 ? (uint32_t)k_.v_min_q8 : next;
   }
 
+  // The speed change allowed over `ticks` loop periods, < 2^31: accel_too_high bounds it (one
+  // tick without a product: the usual case; two hardware products otherwise, the same value
+  // modulo 2^32 as the 32-bit library product)
+  int32_t dv_q8(uint8_t ticks) const {
+    return ticks == 1 ? (int32_t)k_.dv_q8_per_tick : mul_i32_u8((int32_t)k_.dv_q8_per_tick, ticks);
+  }
   // A position move's wanted speed (signed, into want) and the steps the ISR may still make
   // (steps_left); false: at rest on the target. Not inlined: the speed commands of running
   // (the usual ticks) then keep their registers for themselves.
