@@ -82,7 +82,9 @@ class PlausibilityMonitor {
       return faults_;
     }
     rail_count_ = 0;
-    if (have_prev_ && magnitude_u32(sub_saturated(position, prev_)) > (uint32_t)c_.max_step * samples) {
+    // the largest plausible change over the samples (one sample, the usual call: no product)
+    const uint32_t max_change = samples == 1 ? (uint32_t)c_.max_step : (uint32_t)c_.max_step * samples;
+    if (have_prev_ && magnitude_u32(sub_saturated(position, prev_)) > max_change) {
       faults_ |= kFaultJump;
       prev_ = position;
       drive_dir_ = 0;
