@@ -127,13 +127,35 @@ inline fx::Unit limit_scale(fx::Unit s, fx::Real qd, fx::Real allowed) {
   return fx::Unit{(int16_t)(quotient.raw > 2 ? quotient.raw - 2 : 0)};
 }
 
+// the soft-limit zone, Angle counts: closer to a soft stop, the speed limit falls to 0 at the stop
+constexpr int32_t kSoftLimitZoneCounts = fx::angle_deg(Ratio{config::kSoftLimitZone_deg, 1}).raw;
+
+// Step 3 for a joint moving `distance` counts short of its soft stop, within the zone or the
+// braking distance: its speed limit scaled down. Not inlined: the joint loop, which needs it
+// for a few joints at most, keeps its registers.
+__attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimits& limit, int32_t distance) {
+  static constexpr fx::Real kInvZone = fx::real(Ratio{1, kSoftLimitZoneCounts});  // per angle count
+  static_assert(kSoftLimitZoneCounts < 32768 && kInvZone.raw < 32768, "the soft-limit zone's fraction is a 16x16 product");
+  fx::Real allowed = limit.speed_rad_s;
+  if (distance < kSoftLimitZoneCounts) {
+    // distance / zone as one 16x16 product (both fit 16 bits; at or past the stop, 0)
+    allowed = distance <= 0 ? fx::Real{0}
+                            : fraction(fx::Real{fx::mul_ss((int16_t)distance, (int16_t)kInvZone.raw)}) * allowed;
+  }
+  if (distance < limit.brake_from) {
+    // brake = floor(sqrt(v)) 2^13 is below allowed exactly when v < ceil(allowed / 2^13)^2:
+    // the square root (~300 cycles) only when it limits
+    const uint32_t v = distance <= 0 ? 0 : (uint32_t)apply(limit.brake_speed_sq, distance);
+    const uint16_t allowed_q10 = (uint16_t)((allowed.raw + 8191) >> 13);
+    if (v < fx::mul_uu(allowed_q10, allowed_q10)) allowed = fx::Real{(int32_t)fx::isqrt32(v) << 13};
+  }
+  return allowed;
+}
+
 template <class Trig>
 JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::Twist<Fixed>& twist,
                          const MotionLimits& limits, const DriveSpeeds* drives = nullptr) {
   static constexpr fx::Unit kA2 = fx::unit(arm::a2), kA3 = fx::unit(arm::a3), kA4 = fx::unit(arm::a4);
-  static constexpr int32_t kZoneCounts = fx::angle_deg(Ratio{config::kSoftLimitZone_deg, 1}).raw;
-  static constexpr fx::Real kInvZone = fx::real(Ratio{1, kZoneCounts});  // per angle count
-  static_assert(kZoneCounts < 32768 && kInvZone.raw < 32768, "the soft-limit zone's fraction is a 16x16 product");
   static constexpr int32_t kDampC5 = fx::unit(arm::kSingularBands.damp_c5).raw;
   static constexpr int32_t kSlowC5 = fx::unit(arm::kSingularBands.slow_c5).raw;
   static constexpr int32_t kDampS3 = fx::unit(arm::kSingularBands.damp_s3).raw;
@@ -174,18 +196,7 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
     fx::Real allowed = limit.speed_rad_s;
     if (qd[j].raw != 0) {
       const int32_t distance = qd[j].raw > 0 ? limit.soft_max.raw - q.q[j].raw : q.q[j].raw - limit.soft_min.raw;
-      if (distance < kZoneCounts) {
-        // distance / zone as one 16x16 product (both fit 16 bits; at or past the stop, 0)
-        allowed = distance <= 0 ? fx::Real{0}
-                                : fraction(fx::Real{fx::mul_ss((int16_t)distance, (int16_t)kInvZone.raw)}) * allowed;
-      }
-      if (distance < limit.brake_from) {
-        // brake = floor(sqrt(v)) 2^13 is below allowed exactly when v < ceil(allowed / 2^13)^2:
-        // the square root (~300 cycles) only when it limits
-        const uint32_t v = distance <= 0 ? 0 : (uint32_t)apply(limit.brake_speed_sq, distance);
-        const uint16_t allowed_q10 = (uint16_t)((allowed.raw + 8191) >> 13);
-        if (v < fx::mul_uu(allowed_q10, allowed_q10)) allowed = fx::Real{(int32_t)fx::isqrt32(v) << 13};
-      }
+      if (distance < kSoftLimitZoneCounts || distance < limit.brake_from) allowed = near_stop_speed(limit, distance);
     }
     uint8_t reason = allowed < limit.speed_rad_s ? kSlowSoftLimit : kSlowJointSpeed;
     if (drives) {

@@ -71,7 +71,9 @@ class PlausibilityMonitor {
   // One sample: the duty applied during the sample that ends now, and the reading. samples:
   // the sample periods it spans (a caller that overran): the counts advance by that many, and
   // the joint may have moved that many steps. Returns the latched flags.
-  uint8_t update(int16_t duty_q15, int32_t position, uint8_t samples = 1) {
+  // Not inlined: one copy serves the three DC joints (inlined in the caller's loop it took the
+  // registers of the code around it).
+  __attribute__((noinline)) uint8_t update(int16_t duty_q15, int32_t position, uint8_t samples = 1) {
     if (!configured_) return faults_;
     if (position < c_.rail_low || position > c_.rail_high) {
       rail_count_ = rail_count_ > 255 - samples ? (uint8_t)255 : (uint8_t)(rail_count_ + samples);
@@ -80,7 +82,9 @@ class PlausibilityMonitor {
       return faults_;
     }
     rail_count_ = 0;
-    if (have_prev_ && magnitude_u32(sub_saturated(position, prev_)) > (uint32_t)c_.max_step * samples) {
+    // the largest plausible change over the samples (one sample, the usual call: no product)
+    const uint32_t max_change = samples == 1 ? (uint32_t)c_.max_step : (uint32_t)c_.max_step * samples;
+    if (have_prev_ && magnitude_u32(sub_saturated(position, prev_)) > max_change) {
       faults_ |= kFaultJump;
       prev_ = position;
       drive_dir_ = 0;

@@ -171,37 +171,18 @@ class StepRate {
   // stepping_dir: the direction of the edge the channel still has scheduled (0: stopped); the
   // speed leaves 0 the other way only once that edge is made.
   StepPlan plan(uint8_t ticks, int8_t stepping_dir) {
-    // < 2^31: accel_too_high bounds it (one tick without the product: the usual case)
-    const int32_t dv = (int32_t)(ticks == 1 ? k_.dv_q8_per_tick : k_.dv_q8_per_tick * ticks);
-    int32_t v = v_q8_;
     int32_t want = want_q8_;
     uint16_t steps_left = kNoStop;
     if (has_target_) {
-      const int32_t to_go = target_ - position_;  // both within +-2^30
-      const uint32_t d = magnitude_u32(to_go);
-      if (d == 0 && stepping_dir == 0) {
-        v_q8_ = 0;  // stopped on the target (by the ISR's count): at rest there
-        return StepPlan{0, 0};
-      }
-      // Stopped by the ISR on the target when it can brake there (with a slack of the
-      // tracking's 2 a dt and sqrt(2 a), the braking curve's speed one step out); once so,
-      // it goes on (near the target the curve falls faster than a dt a tick). Faster (a new
-      // target close ahead) it brakes at the limit, passes the target and comes back.
-      const bool toward = d != 0 && (v == 0 || (v > 0) == (to_go > 0));
-      const uint32_t speed = magnitude_u32(v);
-      const uint32_t slack = (uint32_t)(2 * dv + k_.one_step_brake_q8);
-      if (toward && (stopping_ || speed <= slack || can_brake_in(speed - slack, dv_steps_s(dv), brake_budget(d)))) {
-        stopping_ = true;
-        steps_left = d > kNoStop ? kNoStop : (uint16_t)d;  // the ISR stops on the target itself
-        want = approach_speed(speed, (uint32_t)want, d, dv, ticks);
-      } else {
-        stopping_ = false;
-        if (toward || d == 0) want = 0;
-      }
-      if (to_go < 0) want = -want;
+      if (!approach_target(dv_q8(ticks), ticks, stepping_dir, want, steps_left)) return StepPlan{0, 0};
     } else if ((want > 0 && position_ >= kPositionLimit) || (want < 0 && position_ <= -kPositionLimit)) {
       want = 0;  // the count saturates, never wraps (15 hours at 20 kHz from zero)
     }
+    // At the wanted speed already (a speed command held, or at rest): the steps below leave
+    // it as it is, since a speed not 0 is never below the slowest one.
+    if (want == v_q8_) return want == 0 ? StepPlan{0, 0} : StepPlan{interval_q8_, steps_left};
+    const int32_t dv = dv_q8(ticks);
+    int32_t v = v_q8_;
     if ((v > 0 && want < 0) || (v < 0 && want > 0)) want = 0;  // reversals through rest
     if (v == 0 && ((stepping_dir > 0 && want < 0) || (stepping_dir < 0 && want > 0))) want = 0;
     if (want > v) {
@@ -288,6 +269,43 @@ class StepRate {
       next = speed > (uint32_t)dv ? speed - (uint32_t)dv : 0;
     }
     return next < (uint32_t)k_.v_min_q8 ? (uint32_t)k_.v_min_q8 : next;
+  }
+
+  // The speed change allowed over `ticks` loop periods, < 2^31: accel_too_high bounds it (one
+  // tick without a product: the usual case; two hardware products otherwise, the same value
+  // modulo 2^32 as the 32-bit library product)
+  int32_t dv_q8(uint8_t ticks) const {
+    return ticks == 1 ? (int32_t)k_.dv_q8_per_tick : mul_i32_u8((int32_t)k_.dv_q8_per_tick, ticks);
+  }
+  // A position move's wanted speed (signed, into want) and the steps the ISR may still make
+  // (steps_left); false: at rest on the target. Not inlined: the speed commands of running
+  // (the usual ticks) then keep their registers for themselves.
+  __attribute__((noinline)) bool approach_target(int32_t dv, uint8_t ticks, int8_t stepping_dir, int32_t& want,
+                                                 uint16_t& steps_left) {
+    const int32_t v = v_q8_;
+    const int32_t to_go = target_ - position_;  // both within +-2^30
+    const uint32_t d = magnitude_u32(to_go);
+    if (d == 0 && stepping_dir == 0) {
+      v_q8_ = 0;  // stopped on the target (by the ISR's count): at rest there
+      return false;
+    }
+    // Stopped by the ISR on the target when it can brake there (with a slack of the
+    // tracking's 2 a dt and sqrt(2 a), the braking curve's speed one step out); once so,
+    // it goes on (near the target the curve falls faster than a dt a tick). Faster (a new
+    // target close ahead) it brakes at the limit, passes the target and comes back.
+    const bool toward = d != 0 && (v == 0 || (v > 0) == (to_go > 0));
+    const uint32_t speed = magnitude_u32(v);
+    const uint32_t slack = (uint32_t)(2 * dv + k_.one_step_brake_q8);
+    if (toward && (stopping_ || speed <= slack || can_brake_in(speed - slack, dv_steps_s(dv), brake_budget(d)))) {
+      stopping_ = true;
+      steps_left = d > kNoStop ? kNoStop : (uint16_t)d;  // the ISR stops on the target itself
+      want = (int32_t)approach_speed(speed, (uint32_t)want, d, dv, ticks);
+    } else {
+      stopping_ = false;
+      if (toward || d == 0) want = 0;
+    }
+    if (to_go < 0) want = -want;
+    return true;
   }
 
   StepRateConstants k_{RateStatus::ok, 0, 0, 0x7FFFFFFF, 0, 0, 0, 0, 0, 0};  // not configured: no speed is fast enough

@@ -35,15 +35,20 @@ struct Channel {
   uint8_t interval_frac;  // and 1/256 ticks
   uint8_t frac;           // the next edge's fraction
 };
-Channel g_ch[kCount];
 volatile uint8_t g_running;  // bit i: channel i has an edge scheduled
 volatile bool g_killed = true;
-// main loop only: per channel, left as last read or written, and steps made before that not yet counted
-uint16_t g_base[kCount];
-uint16_t g_uncounted[kCount];
-uint32_t g_handed_q8[kCount];  // the interval last handed over
-int8_t g_dir[kCount];
-Rate g_rates[kCount];
+// One channel's state in one place: service()'s loop walks one table (a table per field kept
+// six pointers, which avr-gcc spilled to the stack).
+struct ChannelState {
+  Channel isr;
+  // main loop only: left as last read or written, and steps made before that not yet counted
+  uint16_t base;
+  uint16_t uncounted;
+  uint32_t handed_q8;  // the interval last handed over
+  int8_t dir;
+  Rate rate;
+};
+ChannelState g_ch[kCount];
 
 inline void set_com(uint8_t i, uint8_t com) {
   TCCR5A = (uint8_t)((TCCR5A & ~(3 << com_shift(i))) | (com << com_shift(i)));
@@ -125,8 +130,8 @@ __attribute__((always_inline)) inline void on_edge() {
       "pop  r24\n\t"
       "reti\n\t"
       :
-      : [left] "i"(&g_ch[I].left), [frac] "i"(&g_ch[I].frac), [ifrac] "i"(&g_ch[I].interval_frac),
-        [ival] "i"(&g_ch[I].interval), [ocr] "n"(m2560::timer_registers(kPins(I).step.timer).ocr[(int)kPins(I).step.channel]),
+      : [left] "i"(&g_ch[I].isr.left), [frac] "i"(&g_ch[I].isr.frac), [ifrac] "i"(&g_ch[I].isr.interval_frac),
+        [ival] "i"(&g_ch[I].isr.interval), [ocr] "n"(m2560::timer_registers(kPins(I).step.timer).ocr[(int)kPins(I).step.channel]),
         [foc] "n"(1 << foc_bit(I)), [tccrc] "n"(_SFR_MEM_ADDR(TCCR5C)), [tcnt] "n"(_SFR_MEM_ADDR(TCNT5L)),
         [lead] "n"(kMinLeadTicks), [tccra] "n"(_SFR_MEM_ADDR(TCCR5A)), [com_keep] "n"((uint8_t) ~(3 << com_shift(I))),
         [timsk] "n"(_SFR_MEM_ADDR(TIMSK5)), [ocie_keep] "n"((uint8_t) ~(1 << ocie_bit(I))), [running] "i"(&g_running),
@@ -137,8 +142,8 @@ __attribute__((always_inline)) inline void on_edge() {
 // DRV8825's 650 ns setup time is far shorter than kMinLeadTicks).
 void start_channel(uint8_t i, int8_t dir, uint32_t interval_q8, uint16_t left) {
   set_dir(i, dir);
-  g_dir[i] = dir;
-  Channel& c = g_ch[i];
+  g_ch[i].dir = dir;
+  Channel& c = g_ch[i].isr;
   c.left = left;
   c.interval = (uint16_t)(interval_q8 >> 8);
   c.interval_frac = (uint8_t)interval_q8;
@@ -150,20 +155,20 @@ void start_channel(uint8_t i, int8_t dir, uint32_t interval_q8, uint16_t left) {
   g_running |= (uint8_t)(1 << i);
 }
 
-// The steps channel i made since the last count, into its ramp; returns the direction of the
-// edge it still has scheduled (0: stopped).
-int8_t count_made(uint8_t i) {
+// The steps a channel (bit: its bit in g_running) made since the last count, into its ramp;
+// returns the direction of the edge it still has scheduled (0: stopped).
+int8_t count_made(ChannelState& ch, uint8_t bit) {
   uint16_t now;
   bool running;
   ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
-    now = g_ch[i].left;
-    running = g_running & (1 << i);
+    now = ch.isr.left;
+    running = g_running & bit;
   }
-  const uint16_t made = (uint16_t)(g_uncounted[i] + (uint16_t)(g_base[i] - now));
-  g_uncounted[i] = 0;
-  g_base[i] = now;
-  g_rates[i].count_steps(g_dir[i] > 0 ? (int32_t)made : -(int32_t)made);
-  return running ? g_dir[i] : 0;
+  const uint16_t made = (uint16_t)(ch.uncounted + (uint16_t)(ch.base - now));
+  ch.uncounted = 0;
+  ch.base = now;
+  ch.rate.count_steps(ch.dir > 0 ? (int32_t)made : -(int32_t)made);
+  return running ? ch.dir : 0;
 }
 
 // Hands the ISR its plan. Steps made since count_made() are counted at the next one (a
@@ -171,10 +176,11 @@ int8_t count_made(uint8_t i) {
 void hand_over(uint8_t i, const control::StepPlan& p, int32_t speed_q8) {
   ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
     if (g_killed) return;
-    Channel& c = g_ch[i];
+    ChannelState& ch = g_ch[i];
+    Channel& c = ch.isr;
     const uint16_t now = c.left;
-    const uint16_t since = (uint16_t)(g_base[i] - now);
-    g_uncounted[i] = (uint16_t)(g_uncounted[i] + since);
+    const uint16_t since = (uint16_t)(ch.base - now);
+    ch.uncounted = (uint16_t)(ch.uncounted + since);
     uint16_t left = p.steps_left;
     // the target reached meanwhile (the ISR stopped on it): not started again
     const bool arrived = left != Rate::kNoStop && since >= left;
@@ -205,7 +211,7 @@ void hand_over(uint8_t i, const control::StepPlan& p, int32_t speed_q8) {
     } else {
       left = now;
     }
-    g_base[i] = left;
+    ch.base = left;
   }
 }
 
@@ -235,7 +241,7 @@ void enable_drivers(bool on) {
   SREG = s;
   // a ramp left moving while the drivers were off would start at its speed
   if (on) {
-    for (uint8_t i = 0; i < kCount; ++i) g_rates[i].halt();
+    for (uint8_t i = 0; i < kCount; ++i) g_ch[i].rate.halt();
   }
 }
 
@@ -255,23 +261,24 @@ __attribute__((optimize("O3"))) void kill() {
 }
 
 bool running(uint8_t i) { return g_running & (1 << i); }
-Rate& rate(uint8_t i) { return g_rates[i]; }
+Rate& rate(uint8_t i) { return g_ch[i].rate; }
 
-// -O2 whatever the file's level: it runs every iteration, inside the 1 ms (3 x 20 kHz leaves
+// -O3 whatever the file's level: it runs every iteration, inside the 1 ms (3 x 20 kHz leaves
 // ~3,000 cycles of it beside an 8,000-cycle iteration and the step ISRs)
 __attribute__((optimize("O3"))) void service(uint8_t ticks) {
-  for (uint8_t i = 0; i < kCount; ++i) {
-    const int8_t stepping = count_made(i);
+  uint8_t bit = 1;
+  for (uint8_t i = 0; i < kCount; ++i, bit = (uint8_t)(bit << 1)) {
+    ChannelState& ch = g_ch[i];
+    const int8_t stepping = count_made(ch, bit);
     if (g_killed) continue;  // the ramps as they were: the caller sees which were moving
-    Rate& r = g_rates[i];
-    const control::StepPlan p = r.plan(ticks, stepping);
+    const control::StepPlan p = ch.rate.plan(ticks, stepping);
     // Nothing new for a running channel (its interval, and a count that already ends on the
     // target or is far from running out): the ISR goes on as it is (steps made meanwhile are
-    // counted next time from g_base).
-    const bool same_count = p.steps_left == Rate::kNoStop ? g_base[i] >= 0x8000u : p.steps_left == g_base[i];
-    if (stepping != 0 && p.interval_q8 == g_handed_q8[i] && same_count) continue;
-    g_handed_q8[i] = p.interval_q8;
-    hand_over(i, p, r.speed_q8());
+    // counted next time from base).
+    const bool same_count = p.steps_left == Rate::kNoStop ? ch.base >= 0x8000u : p.steps_left == ch.base;
+    if (stepping != 0 && p.interval_q8 == ch.handed_q8 && same_count) continue;
+    ch.handed_q8 = p.interval_q8;
+    hand_over(i, p, ch.rate.speed_q8());
   }
 }
 

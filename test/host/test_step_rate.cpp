@@ -271,6 +271,36 @@ TEST(StepRate, SpeedsBelowTheSlowestAreAStop) {
   EXPECT_EQ(ch.position, at_rest);
 }
 
+// plan() returns at once when the speed is already the wanted one: that is exact only because
+// a speed other than 0 is never below the slowest speed (the band it jumps over). Random
+// commands (speeds, moves, stops, halts; ticks of 1 to 6 periods) on the three ramps.
+TEST(StepRate, ASpeedOtherThanZeroIsNeverBelowTheSlowest) {
+  std::mt19937 rng(7);
+  for (const StepRateConfig& c : {kJ1, kJ6, kFast}) {
+    Channel ch;
+    ASSERT_EQ(ch.rate.configure(constants(c)), RateStatus::ok);
+    const int32_t v_min_q8 = ch.rate.constants().v_min_q8, top = ch.rate.constants().v_max_q8 / 256;
+    int held = 0;
+    for (int n = 0; n < 100000; ++n) {
+      switch (rng() % 16) {
+        case 0: ch.rate.set_speed((int32_t)(rng() % (2 * top + 1)) - top); break;
+        case 1: ch.rate.set_speed((int32_t)(rng() % 81) - 40); break;  // around the slowest speed
+        case 2: ch.rate.move_to((int32_t)ch.position + (int32_t)(rng() % 2001) - 1000, rng() % (uint32_t)(top + 1)); break;
+        case 3: ch.rate.stop(); break;
+        case 4:
+          if (rng() % 8 == 0) ch.rate.halt();
+          break;
+        default: break;
+      }
+      ch.tick(rng() % 5 == 0 ? (uint8_t)(1 + rng() % 6) : 1);
+      const int32_t v = ch.rate.speed_q8();
+      ASSERT_TRUE(v == 0 || v >= v_min_q8 || v <= -v_min_q8) << "speed " << v << " Q8 at tick " << n;
+      held += v != 0;
+    }
+    EXPECT_GT(held, 20000) << "moving often enough to test it";
+  }
+}
+
 // drives_off() keeps the homing of a ramp stopped this slowly (firmware/app/arm_control.cpp)
 TEST(StepRate, StopsWithinAStepUpToTheOneStepBrakingSpeed) {
   Channel ch;
