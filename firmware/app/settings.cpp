@@ -3,7 +3,10 @@
 #include <stddef.h>
 
 #include "config/joints_config.h"
+#include "config/motion_config.h"
+#include "kinematics/arm_model.h"
 #include "kinematics/fixed_trig.h"
+#include "kinematics/flash.h"
 
 namespace wmra {
 namespace app {
@@ -36,12 +39,48 @@ void apply_config_calibration(Settings& s) {
   }
 }
 
+void set_ready_pose(Settings& s, uint8_t slot) {
+  for (uint8_t j = 0; j < 6; ++j) s.pose_angle[slot][j] = fx::angle_deg(Ratio{kReadyPose_deg[j], 1}).raw;
+}
+
 void set_defaults(Settings& s) {
-  for (uint8_t slot = 0; slot < kPoseSlots; ++slot)
-    for (uint8_t j = 0; j < 6; ++j) s.pose_angle[slot][j] = fx::angle_deg(Ratio{kReadyPose_deg[j], 1}).raw;
+  for (uint8_t slot = 0; slot < kPoseSlots; ++slot) set_ready_pose(s, slot);
   s.pose_valid = 1;
   s.pot_calibrated = 0;
   apply_config_calibration(s);
+}
+
+// The soft stops (a joint stops this far inside its switch), Angle counts; in flash (48 bytes of RAM otherwise)
+struct SoftStops {
+  int32_t min[6], max[6];
+};
+constexpr SoftStops soft_stops() {
+  SoftStops stops{};
+  for (uint8_t j = 0; j < 6; ++j) {
+    stops.min[j] = fx::angle_deg(Ratio{(int16_t)(arm::q_min_deg[j] + kSoftLimitMargin_deg), 1}).raw;
+    stops.max[j] = fx::angle_deg(Ratio{(int16_t)(arm::q_max_deg[j] - kSoftLimitMargin_deg), 1}).raw;
+  }
+  return stops;
+}
+constexpr SoftStops kSoftStops WMRA_FLASH = soft_stops();
+
+// A stored pose beyond a soft stop (a block with a valid CRC that no store_pose wrote: another
+// firmware's layout, an edited config's narrower limits) is dropped: a move to it would drive
+// a joint past its soft stop towards the switch. The ready pose falls back to the config's.
+void drop_poses_beyond_the_soft_stops(Settings& s) {
+  for (uint8_t slot = 0; slot < kPoseSlots; ++slot) {
+    bool within = true;
+    for (uint8_t j = 0; j < 6; ++j)
+      if (s.pose_angle[slot][j] < fx::flash_read_i32(&kSoftStops.min[j]) ||
+          s.pose_angle[slot][j] > fx::flash_read_i32(&kSoftStops.max[j]))
+        within = false;
+    if (within) continue;
+    s.pose_valid &= (uint8_t)~(1 << slot);
+    if (slot == 0) {
+      set_ready_pose(s, 0);
+      s.pose_valid |= 1;
+    }
+  }
 }
 
 bool plausible(const Settings& s) {
@@ -66,6 +105,7 @@ eeprom_store::LoadResult load_settings(Settings& s) {
   }
   if (r == eeprom_store::LoadResult::loaded) {
     apply_config_calibration(s);
+    drop_poses_beyond_the_soft_stops(s);
     if (!plausible(s)) r = eeprom_store::LoadResult::bad_crc;
   }
   if (r != eeprom_store::LoadResult::loaded) set_defaults(s);

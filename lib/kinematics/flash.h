@@ -11,6 +11,7 @@ namespace wmra {
 namespace fx {
 inline int16_t flash_read_i16(const int16_t* p) { return (int16_t)pgm_read_word(p); }
 inline uint16_t flash_read_u16(const uint16_t* p) { return pgm_read_word(p); }
+inline int32_t flash_read_i32(const int32_t* p) { return (int32_t)pgm_read_dword(p); }
 }  // namespace fx
 }  // namespace wmra
 #else
@@ -19,6 +20,7 @@ namespace wmra {
 namespace fx {
 inline int16_t flash_read_i16(const int16_t* p) { return *p; }
 inline uint16_t flash_read_u16(const uint16_t* p) { return *p; }
+inline int32_t flash_read_i32(const int32_t* p) { return *p; }
 }  // namespace fx
 }  // namespace wmra
 #endif

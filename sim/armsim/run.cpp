@@ -74,6 +74,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
 
   RunResult result;
   sim::ArmSimulator sim(config);
+  if (!options.eeprom.empty()) sim.set_eeprom(options.eeprom);
   FirmwareTelemetry own_telemetry;
   TelemetryDecoder& telemetry = options.telemetry ? *options.telemetry : own_telemetry;
   size_t uart_fed = 0;

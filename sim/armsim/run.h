@@ -50,6 +50,7 @@ struct RunOptions {
   double sample_hz = 100;  // trajectory rows per simulated second (>= 100)
   plant::PlantConfig plant;
   TelemetryDecoder* telemetry = nullptr;  // null: a FirmwareTelemetry of run_scenario's own
+  std::vector<uint8_t> eeprom;  // what the firmware finds in its EEPROM at power-up (empty: a blank chip)
 };
 
 struct TrajectoryRow {

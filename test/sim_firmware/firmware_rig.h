@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "armsim/firmware_telemetry.h"
+#include "app/settings.h"
 #include "armsim/run.h"
 #include "core/supervisor.h"
 #include "protocol/frame.h"
@@ -35,6 +36,29 @@ std::vector<uint8_t> message(const Msg& m, uint8_t seq) {
   std::vector<uint8_t> frame(protocol::kMaxFrameBytes);
   frame.resize(protocol::write_message(m, seq, frame.data()));
   return frame;
+}
+
+// A settings block as lib/drivers/eeprom_store.cpp writes it: "WA", the layout's version, the
+// size, the fields packed as avr-gcc packs them (little-endian, no padding), a CRC-16 of all
+// that. Version 1 is the layout without pot_calibrated.
+inline std::vector<uint8_t> settings_block(const app::Settings& s, uint8_t version = app::kSettingsVersion) {
+  std::vector<uint8_t> data;
+  const auto put = [&](int64_t v, int bytes) {
+    for (int i = 0; i < bytes; ++i) data.push_back((uint8_t)(v >> (8 * i)));
+  };
+  for (int16_t v : s.pot_at_min_counts_x16) put(v, 2);
+  for (int16_t v : s.pot_at_max_counts_x16) put(v, 2);
+  for (const auto& pose : s.pose_angle)
+    for (int32_t v : pose) put(v, 4);
+  put(s.pose_valid, 1);
+  if (version >= 2) put(s.pot_calibrated, 1);
+  std::vector<uint8_t> block = {'W', 'A', version, (uint8_t)data.size(), (uint8_t)(data.size() >> 8)};
+  for (uint8_t b : data) block.push_back(b);
+  uint16_t crc = protocol::kCrcInit;
+  for (uint8_t b : block) crc = protocol::crc16_update(crc, b);
+  block.push_back((uint8_t)crc);
+  block.push_back((uint8_t)(crc >> 8));
+  return block;
 }
 
 struct Rig {

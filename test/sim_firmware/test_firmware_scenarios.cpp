@@ -205,23 +205,18 @@ TEST(FirmwareCalibration, PotCalibrationByCommandIsCheckedKeptAndUndone) {
 // calibration): its poses are kept, its calibration is joints_config.h's.
 TEST(FirmwareCalibration, VersionOneSettingsKeepTheirPoses) {
   Rig rig(kFirmware);
-  std::vector<uint8_t> data;
-  const auto put = [&](int64_t v, int bytes) {
-    for (int i = 0; i < bytes; ++i) data.push_back((uint8_t)(v >> (8 * i)));
-  };
-  for (int d = 0; d < 3; ++d) put(1000, 2);   // pot_at_min_counts_x16: not the config's 819
-  for (int d = 0; d < 3; ++d) put(15000, 2);  // pot_at_max_counts_x16
+  app::Settings settings{};
+  for (int d = 0; d < 3; ++d) {
+    settings.pot_at_min_counts_x16[d] = 1000;  // not the config's 819
+    settings.pot_at_max_counts_x16[d] = 15000;
+  }
   const double ready_deg[6] = {70, 20, -70, 50, -30, 0}, slot1_deg[6] = {60, 25, -65, 45, -35, 10};
   for (int slot = 0; slot < 4; ++slot)
-    for (int j = 0; j < 6; ++j) put(std::llround((slot == 1 ? slot1_deg : ready_deg)[j] * M_PI / 180 * core::kAngleCountsPerRad), 4);
-  put(0x03, 1);  // pose_valid: slots 0 (the ready pose) and 1
-  ASSERT_EQ(data.size(), 109u);
-  std::vector<uint8_t> block = {'W', 'A', 1, (uint8_t)data.size(), (uint8_t)(data.size() >> 8)};  // eeprom_store.cpp
-  for (uint8_t b : data) block.push_back(b);
-  uint16_t crc = protocol::kCrcInit;
-  for (uint8_t b : block) crc = protocol::crc16_update(crc, b);
-  block.push_back((uint8_t)crc);
-  block.push_back((uint8_t)(crc >> 8));
+    for (int j = 0; j < 6; ++j)
+      settings.pose_angle[slot][j] = (int32_t)std::llround((slot == 1 ? slot1_deg : ready_deg)[j] * M_PI / 180 * core::kAngleCountsPerRad);
+  settings.pose_valid = 0x03;  // slots 0 (the ready pose) and 1
+  const std::vector<uint8_t> block = test::settings_block(settings, 1);
+  ASSERT_EQ(block.size(), 5u + 109u + 2u);
   rig.sim.set_eeprom(block);
 
   const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
@@ -237,6 +232,30 @@ TEST(FirmwareCalibration, VersionOneSettingsKeepTheirPoses) {
   ASSERT_EQ(rig.telemetry.replies().size(), 2u);
   EXPECT_EQ(rig.telemetry.replies()[1].status, (uint8_t)protocol::ReplyStatus::ok) << "slot 1 kept";
   for (int j = 0; j < 6; ++j) EXPECT_NEAR(rig.sim.q()[j] * 180 / M_PI, slot1_deg[j], 1.5) << "joint " << j + 1;
+}
+
+// A block with a valid CRC whose poses lie beyond the soft stops (no store_pose wrote them):
+// the block is kept, its ready pose falls back to the config's and a stored one is refused.
+TEST(FirmwareCalibration, PosesBeyondTheSoftStopsAreDropped) {
+  Rig rig(kFirmware);
+  app::Settings settings{};  // no joint calibrated by a person: joints_config.h's calibration
+  const double ready_deg[6] = {70, 20, -70, 50, -30, 0};
+  const double beyond_deg[6] = {70, 20, -70, 50, 88.5, 0};  // J5 1.5 deg inside its 90 deg switch
+  for (int slot = 0; slot < 4; ++slot)
+    for (int j = 0; j < 6; ++j)
+      settings.pose_angle[slot][j] = (int32_t)std::llround((slot <= 1 ? beyond_deg : ready_deg)[j] * M_PI / 180 * core::kAngleCountsPerRad);
+  settings.pose_valid = 0x03;
+  rig.sim.set_eeprom(test::settings_block(settings));
+
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0);
+  EXPECT_EQ(rig.telemetry.boots()[0].calibration, (uint8_t)protocol::Calibration::eeprom);
+  for (int j = 0; j < 6; ++j) EXPECT_NEAR(rig.sim.q()[j] * 180 / M_PI, ready_deg[j], 1.5) << "the config's ready pose: joint " << j + 1;
+  rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 1, {1}));
+  rig.run_to(t_running + 1.0);
+  ASSERT_EQ(rig.telemetry.replies().size(), 1u);
+  EXPECT_EQ(rig.telemetry.replies()[0].status, (uint8_t)protocol::ReplyStatus::refused) << "slot 1 dropped";
+  EXPECT_NEAR(rig.sim.q()[4] * 180 / M_PI, ready_deg[4], 1.5) << "J5 did not move";
 }
 
 }  // namespace

@@ -9,9 +9,13 @@
 #include <cstdio>
 #include <string>
 
+#include "firmware_rig.h"
+#include "turn_pose.h"
 #include "armsim/firmware_telemetry.h"
 #include "armsim/run.h"
 #include "config/motion_config.h"
+#include "config/joints_config.h"
+#include "core/joint_map.h"
 #include "core/supervisor.h"
 
 namespace {
@@ -34,11 +38,14 @@ struct ScenarioRun {
   }
 };
 
-void run(const std::string& events, ScenarioRun& r) {
+// init: the first scenario line (the true joint angles at power-up); eeprom: what the firmware
+// finds there (empty: blank, so the ready pose is joints_config.h's)
+void run(const std::string& events, ScenarioRun& r, const std::string& init = kInit, const std::vector<uint8_t>& eeprom = {}) {
   armsim::RunOptions options;
   options.elf = kFirmware;
   options.telemetry = &r.telemetry;
-  r.result = armsim::run_scenario(armsim::parse_scenario(kInit + events), options);
+  options.eeprom = eeprom;
+  r.result = armsim::run_scenario(armsim::parse_scenario(init + events), options);
   ASSERT_TRUE(r.result.completed);
   ASSERT_EQ(r.at(kStickAt_s).state, (int)core::ArmState::running) << "not running when the stick moves";
   for (int k = 0; k < 3; ++k) EXPECT_EQ(r.result.measurements.steps[k].lost, 0) << "stepper " << k;
@@ -165,26 +172,44 @@ TEST(FirmwareMotion, S3FullStickInR1TurnsTheWristAboutTheHand) {
   report_after_release(r, 8.3, -1);
 }
 
-// R2's stick Y turns about x5, which at the ready pose needs J2, J3 and J4 together: the J4
-// axis is 0.36 m from the frame-6 origin and has to circle it. Not met (DISABLED_): the SPEC's
-// 0.8 rad/s is out of the arm's reach at the ready pose, and the firmware rightly slows the turn
-// (0.47 rad/s; slowed_by drive_load, then joint_speed). About +x5 it needs qd = (0, 0.72, -0.40,
-// -1.25, 0, -0.46) rad/s: J2 lifts arm and payload, holding 69 % of its duty, and reaches
-// 0.44 rad/s at full duty (the firmware plans 0.36); after 0.25 rad J4 needs more than its
-// 1.6 rad/s, and after 0.85 rad the path reaches sin q3 = 0. About -x5, J3 needs 1.17 rad/s
-// (limit 1.0) after 0.25 rad, and sin q3 = 0 comes after 0.55 rad. On a grid of q2..q4 by
-// 10 deg and q5 by 15 deg, a 0.9 s turn within the speed limits, the drives' plans and outside
-// the singular slow bands exists only with q4 between -110 and -140 deg (link 4 folded back,
-// 180 deg of J4 from the ready pose), a pose no short stick drive reaches. The origin also
-// moves, 17-26 mm with the loop's timing: J2 runs at full duty from 0.1 s in and falls 22 mrad
-// behind while its reference accelerates to the planned 0.36 rad/s (the plan leaves 2 % duty
-// at that load; accelerating at up to 3 rad/s^2 asks for up to 18 %).
-TEST(FirmwareMotion, DISABLED_S3FullStickInR2TurnsTheWristAboutTheHand) {
-  ScenarioRun r;
-  run("6.0 button press\n6.4 button press\n6.8 button press\n7.2 joystick 0 1\n8.7 joystick 0 0\n9.2 end\n", r);
-  EXPECT_EQ(r.at(7.5).mode, 3) << "R2";
-  expect_turn_in_place(r, 7.2, 8.7);
-  report_after_release(r, 8.7, -1);
+// R2's stick Y turns about x5. At the ready pose the J4 axis is 0.36 m from the frame-6 origin
+// and has to circle it at 0.8 rad/s: that needs qd = (0, 0.72, -0.40, -1.25, 0, -0.46) rad/s, with
+// J2 lifting arm and payload at twice the speed its drive plans at that load, and J4 over its
+// 1.6 rad/s after 0.25 rad (test_turn_reach.cpp). So S3's R2 starts from a pose where the turn is
+// within the arm's reach (turn_pose.h: link 4 folded back, below 48 % of every limit), stored as
+// the ready pose that start-up goes to; the stick's start is shifted as in S1 and S2.
+std::vector<uint8_t> settings_with_ready_pose(const double (&q_deg)[6]) {
+  app::Settings settings{};
+  const int16_t at_min = (int16_t)(config::kPotAtMin_mV * 1024L * 16 / config::kAdcRef_mV);
+  const int16_t at_max = (int16_t)(config::kPotAtMax_mV * 1024L * 16 / config::kAdcRef_mV);
+  for (int d = 0; d < 3; ++d) {
+    settings.pot_at_min_counts_x16[d] = at_min;
+    settings.pot_at_max_counts_x16[d] = at_max;
+  }
+  for (int j = 0; j < 6; ++j) settings.pose_angle[0][j] = (int32_t)std::llround(q_deg[j] * M_PI / 180 * core::kAngleCountsPerRad);
+  settings.pose_valid = 1;
+  return test::settings_block(settings);
+}
+
+TEST(FirmwareMotion, S3FullStickInR2TurnsTheWristAboutTheHand) {
+  const double(&pose)[6] = test::kR2Pose_deg;
+  // the DC joints at power-up where the pose has them, the steppers near their switches as in kInit
+  char init[96];
+  std::snprintf(init, sizeof init, "init 1.45 %.4f %.4f %.4f -1.45 0.05\n", pose[1] * M_PI / 180, pose[2] * M_PI / 180,
+                pose[3] * M_PI / 180);
+  for (int k : kShifts) {
+    SCOPED_TRACE("stick shifted by " + std::to_string(k) + " x 1.3 ms");
+    char events[160];
+    std::snprintf(events, sizeof events, "6.0 button press\n6.4 button press\n6.8 button press\n%.4f joystick 0 1\n%.4f joystick 0 0\n9.2 end\n",
+                  7.2 + k * kShiftStep_s, 8.7 + k * kShiftStep_s);
+    ScenarioRun r;
+    run(events, r, init, settings_with_ready_pose(pose));
+    for (int j = 0; j < 6; ++j) EXPECT_NEAR(r.at(7.2).q[j] * 180 / M_PI, pose[j], 1.0) << "at the stored pose: joint " << j + 1;
+    EXPECT_EQ(r.at(7.5).mode, 3) << "R2";
+    std::printf("shift %d: ", k);
+    expect_turn_in_place(r, 7.2, 8.7);
+    report_after_release(r, 8.7, -1);
+  }
 }
 
 }  // namespace
