@@ -98,9 +98,13 @@ constexpr int32_t kDutySlope_permille = 1000 - kDcMinDuty_permille;
 // division is ~600 cycles, a shift by 15 a loop)
 constexpr int16_t kInverseSlopeLess1_q16 = (int16_t)(65536.0 * kDcMinDuty_permille / kDutySlope_permille + 0.5);
 static_assert(kDcMinDuty_permille * 3 < 1000, "1 / slope - 1 below a half: a Q16 fraction in 16 bits");
-int32_t effort_for_duty(int32_t duty_q15) {
-  const int16_t d = (int16_t)(duty_q15 > 32767 ? 32767 : duty_q15 < -32767 ? -32767 : duty_q15);
-  return d + ((fx::mul_ss(d, kInverseSlopeLess1_q16) + 32768) >> 16);
+// |duty| <= 32767 in, the effort saturated to +-32767 out: all in 16 bits (the rounded high
+// half of the product is a byte move; the sum's overflow flag saturates it)
+int16_t effort_for_duty(int16_t duty_q15) {
+  const int16_t extra = (int16_t)fx::hi16((uint32_t)(fx::mul_ss(duty_q15, kInverseSlopeLess1_q16) + 32768));
+  int16_t effort;
+  if (__builtin_add_overflow(duty_q15, extra, &effort)) return duty_q15 < 0 ? (int16_t)-32767 : (int16_t)32767;
+  return effort == -32768 ? (int16_t)-32767 : effort;
 }
 // the inertia's feedforward: duty per change of the reference speed in one tick, Q8 of
 // (Q15 duty per Q23 rad/s) x 2^16: J_worm x gear x loop rate / stall torque at the worm
@@ -466,7 +470,7 @@ WMRA_SMALL void update_holding() {
                                                  fx::real(Ratio{kDcFullDutySpeed_crad_s[2], 100})};
   for (uint8_t d = 0; d < 3; ++d) {
     const int16_t h = g_holding.duty_q15[d];
-    g_holding_effort_q15[d] = (int16_t)effort_for_duty(h);
+    g_holding_effort_q15[d] = effort_for_duty(h);
     const int16_t up = (int16_t)(kUsable_q15 - (h > 0 ? h : 0)), down = (int16_t)(kUsable_q15 - (h < 0 ? -h : 0));
     g_drives.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * (fx::Unit{kPlanned_q15} * kFullDutySpeed[d]);
     g_drives.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * (fx::Unit{kPlanned_q15} * kFullDutySpeed[d]);
@@ -512,8 +516,7 @@ void dc_tick(uint8_t ticks) {
     const bool slowing = (accel < 0) != (qd.raw < 0);  // the change opposes the speed
     const int32_t duty = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw) +
                          (fx::mul_ss(accel, slowing ? kDcBrakeFeedforward_q8[d] : kDcAccelFeedforward_q8[d]) >> 16);
-    const int32_t feedforward = effort_for_duty(duty);
-    const int16_t feedforward_q15 = (int16_t)(feedforward > 32767 ? 32767 : feedforward < -32767 ? -32767 : feedforward);
+    const int16_t feedforward_q15 = effort_for_duty(control::saturate_i16(duty));
     bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15, g_holding_effort_q15[d], ticks));
   }
 }

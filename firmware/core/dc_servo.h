@@ -94,7 +94,7 @@ class DcServo {
         in_band_ = out_of_band_ = 0;
         if (!still) pid_.preset_integral(holding_q15_[direction]);
       } else {
-        pid_.start(reference_units, measured_units, 0);
+        pid_.start_at_error(e, measured_units, 0);
         applied_ = 0;
         return 0;
       }
@@ -102,12 +102,12 @@ class DcServo {
     in_band_ = still && error <= (uint16_t)c_.park_units ? (uint16_t)(in_band_ + ticks) : 0;
     if (in_band_ >= c_.park_ticks) {
       parked_ = true;
-      pid_.start(reference_units, measured_units, 0);
+      pid_.start_at_error(e, measured_units, 0);
       applied_ = 0;
       return 0;
     }
     applied_ = c_.use_relay ? relay_.update(reference_units, measured_units)
-                            : pid_.update(reference_units, measured_units, feedforward_q15, ticks);
+                            : pid_.update_at_error(e, measured_units, feedforward_q15, ticks);
     if (!still && !c_.use_relay) applied_ = keep_moving(applied_, direction, e);
     if (!still) holding_q15_[direction] = (int16_t)(pid_.integral_q23() >> 8);
     return applied_;

@@ -101,11 +101,16 @@ class Pid {
   // Bumpless start: the next update with the same inputs outputs applied_effort_q15 (plus one
   // sample of integration).
   void start(int16_t setpoint, int16_t measurement, int16_t applied_effort_q15) {
+    start_at_error(sub_saturated_i16(setpoint, measurement), measurement, applied_effort_q15);
+  }
+  // the same with the error setpoint - measurement already formed and saturated to +-32767
+  // (a caller that needs it too: one subtraction)
+  void start_at_error(int16_t error, int16_t measurement, int16_t applied_effort_q15) {
     m_prev_ = measurement;
     effort_ = applied_effort_q15 > c_.out_max_q15    ? c_.out_max_q15
               : applied_effort_q15 < -c_.out_max_q15 ? (int16_t)-c_.out_max_q15
                                                      : applied_effort_q15;
-    integral_q23_ = clamp_integral(((int32_t)effort_ << 8) - p_q23(sub_saturated_i16(setpoint, measurement)));
+    integral_q23_ = clamp_integral(((int32_t)effort_ << 8) - p_q23(error));
   }
 
   // Preset the integral to an effort the loop is known to need (a load it held before), so
@@ -116,8 +121,11 @@ class Pid {
   // the last update (a caller that overran): the integral, the output's rate limit and the
   // measurement's rate scale with it, so that the gains keep their meaning in time.
   int16_t update(int16_t setpoint, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
+    return update_at_error(sub_saturated_i16(setpoint, measurement), measurement, feedforward_q15, samples);
+  }
+  // the same with the error setpoint - measurement already formed and saturated to +-32767
+  int16_t update_at_error(int16_t e, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
     if (!configured_) return 0;
-    const int16_t e = sub_saturated_i16(setpoint, measurement);
     int16_t dm = sub_saturated_i16(measurement, m_prev_);
     m_prev_ = measurement;
     int32_t di = fx::mul_ss(e, c_.gains.ki_q8);  // Q23
