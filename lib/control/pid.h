@@ -90,6 +90,7 @@ class Pid {
     if (s != PidStatus::ok) return s;
     c_ = c;
     // dead-zone inverse slope (out_max - min) / out_max in Q15, computed once
+    integral_limit_ = (int32_t)c.out_max_q15 << 8;
     slope_q15_ = (uint16_t)(((int32_t)(c.out_max_q15 - c.min_duty_q15) << 15) / c.out_max_q15);
     p_error_limit_ = term_error_limit(kTermLimit, c.gains.kp_q4);
     d_change_limit_ = term_error_limit(kTermLimit / 16, c.gains.kd);
@@ -149,11 +150,15 @@ class Pid {
     const uint16_t room_up = (uint16_t)(c_.out_max_q15 - effort_), room_down = (uint16_t)(c_.out_max_q15 + effort_);
     const int16_t hi = rate >= room_up ? c_.out_max_q15 : (int16_t)(effort_ + rate);
     const int16_t lo = rate >= room_down ? (int16_t)-c_.out_max_q15 : (int16_t)(effort_ - rate);
-    const int32_t trial = clamp_integral(integral_q23_ + di);
-    const int32_t s_trial = p + trial;
     // conditional integration: hold the integral when it would push further into a limit
-    // (u > 16 hi is s > 256 (hi - t) + 15, u < 16 lo is s < 256 (lo - t))
-    if (!((di > 0 && s_trial > (hi - t_q15) * 256 + 15) || (di < 0 && s_trial < (lo - t_q15) * 256))) integral_q23_ = trial;
+    // (u > 16 hi is s > 256 (hi - t) + 15, u < 16 lo is s < 256 (lo - t)). di has the sign of
+    // e (Ki >= 0, samples >= 0), and di = 0 leaves the integral as it is (always within its
+    // clamp): the 32-bit sum, clamp and compare only when it integrates.
+    if (e != 0 && c_.gains.ki_q8 != 0) {
+      const int32_t trial = clamp_integral(integral_q23_ + di);
+      const int32_t s_trial = p + trial;
+      if (e > 0 ? s_trial <= (hi - t_q15) * 256 + 15 : s_trial >= (lo - t_q15) * 256) integral_q23_ = trial;
+    }
     effort_ = (int16_t)clamp_i32(((p + integral_q23_ + 128) >> 8) + t_q15, lo, hi);
     return duty_for(effort_);
   }
@@ -200,15 +205,13 @@ class Pid {
     return dm;
   }
 
-  int32_t clamp_integral(int32_t i) const {
-    const int32_t limit = (int32_t)c_.out_max_q15 << 8;
-    return clamp_i32(i, -limit, limit);
-  }
+  int32_t clamp_integral(int32_t i) const { return clamp_i32(i, -integral_limit_, integral_limit_); }
 
   PidConfig c_{{0, 0, 0}, 1, 1, 0, 0};
   bool configured_ = false;
   uint16_t slope_q15_ = 32768;
   uint16_t p_error_limit_ = 65535, d_change_limit_ = 65535;
+  int32_t integral_limit_ = 256;  // out_max in Q23
   int16_t m_prev_ = 0;
   int16_t effort_ = 0;
   int32_t integral_q23_ = 0;
