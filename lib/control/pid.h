@@ -141,8 +141,10 @@ class Pid {
     // its rounded, clamped effort is clamp(floor((s + 128) / 256) + t, lo, hi); so the only
     // shift by other than whole bytes left is 16 P (shifts by 4 are loops on the AVR).
     const int32_t p = p_q23(e);
-    const int32_t d_q15 = distance_u16(dm, 0) > d_change_limit_ ? (dm < 0 ? -kTermLimit / 16 : kTermLimit / 16)
-                                                                 : fx::mul_ss(dm, c_.gains.kd);
+    // (a reading in ADC counts x 16 stands still most samples: no product then)
+    const int32_t d_q15 = dm == 0                                  ? 0
+                          : distance_u16(dm, 0) > d_change_limit_ ? (dm < 0 ? -kTermLimit / 16 : kTermLimit / 16)
+                                                                   : fx::mul_ss(dm, c_.gains.kd);
     const int32_t t_q15 = (int32_t)feedforward_q15 - d_q15;
     // the effort's limits this sample; effort_ stays within +-out_max, so each side has one
     // bound, and the room to it (0 .. 2 out_max) fits 16 bits unsigned, as does a rate past it
