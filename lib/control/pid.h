@@ -129,7 +129,7 @@ class Pid {
     if (!configured_) return 0;
     int16_t dm = sub_saturated_i16(measurement, m_prev_);
     m_prev_ = measurement;
-    int32_t di = fx::mul_ss(e, c_.gains.ki_q8);  // Q23
+    int32_t di = e == 0 ? 0 : fx::mul_ss(e, c_.gains.ki_q8);  // Q23 (a joint on its reference: no product)
     if (samples != 1) {  // an overran call: the measurement's change per period, the integral over all
       dm = per_sample(dm, samples);
       if (samples > 1) di = mul_i32_u8(clamp_integral(di), samples);  // at most full output a sample: no overflow
@@ -188,6 +188,7 @@ class Pid {
   }
   // P in Q23: the error's product (Q19) clamped to +-kTermLimit, times 16
   int32_t p_q23(int16_t e) const {
+    if (e == 0) return 0;
     if (distance_u16(e, 0) > p_error_limit_) return e < 0 ? -kTermLimit * 16 : kTermLimit * 16;
     return fx::mul_ss(e, c_.gains.kp_q4) * 16;
   }
