@@ -98,9 +98,13 @@ constexpr int32_t kDutySlope_permille = 1000 - kDcMinDuty_permille;
 // division is ~600 cycles, a shift by 15 a loop)
 constexpr int16_t kInverseSlopeLess1_q16 = (int16_t)(65536.0 * kDcMinDuty_permille / kDutySlope_permille + 0.5);
 static_assert(kDcMinDuty_permille * 3 < 1000, "1 / slope - 1 below a half: a Q16 fraction in 16 bits");
-int32_t effort_for_duty(int32_t duty_q15) {
-  const int16_t d = (int16_t)(duty_q15 > 32767 ? 32767 : duty_q15 < -32767 ? -32767 : duty_q15);
-  return d + ((fx::mul_ss(d, kInverseSlopeLess1_q16) + 32768) >> 16);
+// |duty| <= 32767 in, the effort saturated to +-32767 out: all in 16 bits (the rounded high
+// half of the product is a byte move; the sum's overflow flag saturates it)
+int16_t effort_for_duty(int16_t duty_q15) {
+  const int16_t extra = (int16_t)fx::hi16((uint32_t)(fx::mul_ss(duty_q15, kInverseSlopeLess1_q16) + 32768));
+  int16_t effort;
+  if (__builtin_add_overflow(duty_q15, extra, &effort)) return duty_q15 < 0 ? (int16_t)-32767 : (int16_t)32767;
+  return effort == -32768 ? (int16_t)-32767 : effort;
 }
 // the inertia's feedforward: duty per change of the reference speed in one tick, Q8 of
 // (Q15 duty per Q23 rad/s) x 2^16: J_worm x gear x loop rate / stall torque at the worm
@@ -136,10 +140,11 @@ control::Joystick g_stick;
 control::Button g_button;
 core::DcServo g_servo[3];
 core::PotMap g_pot[3];
-int32_t g_dc_units[3];  // measured, ADC counts x 16
+int16_t g_dc_units[3];  // measured, ADC counts x 16 (< 16,368)
 fx::Real g_dc_qd_prev[3];  // the DC references' speeds of the last dc_tick (their acceleration)
-int32_t g_dc_reference_units[3];  // the references in pot units, as the last dc_tick drove them
-int32_t g_lag_slow_units[3], g_lag_stop_units[3], g_lag_fault_units[3];
+int16_t g_dc_reference_units[3];  // the references in pot units, as the last dc_tick drove them (PotMap::units)
+int32_t g_lag_slow_units[3], g_lag_stop_units[3];
+int16_t g_lag_fault_units[3];  // capped at 32767: a reference less a reading is at most 32,752
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
 core::AngleAccumulator g_q[6];  // joint references
@@ -465,7 +470,7 @@ WMRA_SMALL void update_holding() {
                                                  fx::real(Ratio{kDcFullDutySpeed_crad_s[2], 100})};
   for (uint8_t d = 0; d < 3; ++d) {
     const int16_t h = g_holding.duty_q15[d];
-    g_holding_effort_q15[d] = (int16_t)effort_for_duty(h);
+    g_holding_effort_q15[d] = effort_for_duty(h);
     const int16_t up = (int16_t)(kUsable_q15 - (h > 0 ? h : 0)), down = (int16_t)(kUsable_q15 - (h < 0 ? -h : 0));
     g_drives.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * (fx::Unit{kPlanned_q15} * kFullDutySpeed[d]);
     g_drives.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * (fx::Unit{kPlanned_q15} * kFullDutySpeed[d]);
@@ -489,9 +494,9 @@ void dc_tick(uint8_t ticks) {
     update_holding();
   }
   for (uint8_t d = 0; d < 3; ++d) {
-    const int32_t reference = g_pot[d].units(g_q[kDcJoint[d]].angle);
+    const int16_t reference = g_pot[d].units(g_q[kDcJoint[d]].angle);
     g_dc_reference_units[d] = reference;
-    const int32_t lag = reference - g_dc_units[d];
+    const int16_t lag = (int16_t)(reference - g_dc_units[d]);  // [-16384 - 16368, 16383]
     if (lag > g_lag_fault_units[d] || lag < -g_lag_fault_units[d]) g_faults |= core::fault_mask(core::kFaultBitTracking);
     // a reference creeping slower than the standing speed (the drift correction's trickle) stands:
     // no effort of a motion, the servo parks and follows it a count at a time
@@ -511,8 +516,7 @@ void dc_tick(uint8_t ticks) {
     const bool slowing = (accel < 0) != (qd.raw < 0);  // the change opposes the speed
     const int32_t duty = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw) +
                          (fx::mul_ss(accel, slowing ? kDcBrakeFeedforward_q8[d] : kDcAccelFeedforward_q8[d]) >> 16);
-    const int32_t feedforward = effort_for_duty(duty);
-    const int16_t feedforward_q15 = (int16_t)(feedforward > 32767 ? 32767 : feedforward < -32767 ? -32767 : feedforward);
+    const int16_t feedforward_q15 = effort_for_duty(control::saturate_i16(duty));
     bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15, g_holding_effort_q15[d], ticks));
   }
 }
@@ -535,12 +539,12 @@ constexpr core::DcServoConfig dc_servo_config(uint8_t d) {
                          (int16_t)(32767 / kDcRampTime_ms), permille_q15(kDcMinDuty_permille), permille_q15(kDcZeroBand_permille)},
       control::RelayConfig{kRelayDeadZone_counts * kPositionUnitsPerCount, 0, permille_q15(kRelayDuty_permille)},
       control::PlausibilityConfig{permille_q15(kStallDuty_permille), (uint16_t)kStallTime_ms,
-                                  (int32_t)kStallProgress_counts * kPositionUnitsPerCount, (uint16_t)kSignGrace_ms,
-                                  (int32_t)kSignDistance_counts * kPositionUnitsPerCount,
-                                  (int32_t)kMaxStep_counts_per_ms * kPositionUnitsPerCount,
-                                  (int32_t)kRailMargin_counts * kPositionUnitsPerCount,
-                                  (int32_t)(1023 - kRailMargin_counts) * kPositionUnitsPerCount, (uint8_t)kRailTime_ms},
-      (int32_t)kDcParkBand_counts * kPositionUnitsPerCount, (uint16_t)kDcParkTime_ms, (uint16_t)kDcUnparkTime_ms};
+                                  (int16_t)(kStallProgress_counts * kPositionUnitsPerCount), (uint16_t)kSignGrace_ms,
+                                  (int16_t)(kSignDistance_counts * kPositionUnitsPerCount),
+                                  (int16_t)(kMaxStep_counts_per_ms * kPositionUnitsPerCount),
+                                  (int16_t)(kRailMargin_counts * kPositionUnitsPerCount),
+                                  (int16_t)((1023 - kRailMargin_counts) * kPositionUnitsPerCount), (uint8_t)kRailTime_ms},
+      (int16_t)(kDcParkBand_counts * kPositionUnitsPerCount), (uint16_t)kDcParkTime_ms, (uint16_t)kDcUnparkTime_ms};
 }
 constexpr core::DcServoConfig kDcServoConfig[3] = {dc_servo_config(0), dc_servo_config(1), dc_servo_config(2)};
 
@@ -560,7 +564,8 @@ WMRA_COLD void configure_pot(const Settings& settings, uint8_t d) {
   const uint32_t units = (uint32_t)(at_max - at_min), counts = (uint32_t)(L::max[j].raw - L::min[j].raw);
   g_lag_slow_units[d] = lag_units(units, counts, kTrackingSlowFrom_mrad);
   g_lag_stop_units[d] = lag_units(units, counts, kTrackingStopAt_mrad);
-  g_lag_fault_units[d] = lag_units(units, counts, kTrackingFault_mrad);
+  const int32_t fault_units = lag_units(units, counts, kTrackingFault_mrad);
+  g_lag_fault_units[d] = (int16_t)(fault_units > 32767 ? 32767 : fault_units);
   g_lag_inverse[d] = (int16_t)(32767 / (g_lag_stop_units[d] - g_lag_slow_units[d]));
 }
 

@@ -38,7 +38,7 @@ struct DcServoConfig {
   control::PidConfig pid;
   control::RelayConfig relay;
   control::PlausibilityConfig checks;
-  int32_t park_units;
+  int16_t park_units;  // [0, 16383]: twice it fits 16 bits, and a saturated error compares right with it
   uint16_t park_ticks;
   uint16_t unpark_ticks;  // a standing reference: out of twice the band this long (not a noise spike)
 };
@@ -48,22 +48,23 @@ class DcServo {
   bool configure(const DcServoConfig& c) {
     c_ = c;
     return pid_.configure(c.pid) == control::PidStatus::ok && relay_.configure(c.relay) == control::RelayStatus::ok &&
-           checks_.configure(c.checks) == control::PlausibilityStatus::ok && c.park_units >= 0;
+           checks_.configure(c.checks) == control::PlausibilityStatus::ok && c.park_units >= 0 &&
+           c.park_units <= 16383;
   }
 
   // from rest at the measured position (start-up, and after the bridge was switched off)
-  void rest(int32_t measured_units) {
+  void rest(int16_t measured_units) {
     pid_.start(measured_units, measured_units, 0);
     parked_ = true;
     in_band_ = 0;
     out_of_band_ = 0;
     applied_ = 0;
   }
-  void reset_checks(int32_t measured_units) { checks_.reset(measured_units); }
+  void reset_checks(int16_t measured_units) { checks_.reset(measured_units); }
 
   // The reading of this tick: runs the checks (on the duty applied since the last reading, over
   // `ticks` control ticks).
-  uint8_t check(int32_t measured_units, uint8_t ticks = 1) { return checks_.update(applied_, measured_units, ticks); }
+  uint8_t check(int16_t measured_units, uint8_t ticks = 1) { return checks_.update(applied_, measured_units, ticks); }
 
   // The duty for the next tick. feedforward_q15: the effort the reference's speed needs; 0
   // (within the PID's zero band) for a standing reference. Not inlined: three copies unrolled
@@ -72,10 +73,13 @@ class DcServo {
   // and the park timers count time, not calls.
   // holding_q15: the effort that holds the joint's load (+: the drive pushes positive to hold
   // it), for a standing reference that the joint has not reached yet.
-  __attribute__((noinline)) int16_t update(int32_t reference_units, int32_t measured_units, int16_t feedforward_q15,
+  // Positions are 16-bit (pot units: ADC counts x 16 < 16,368); the error is saturated to
+  // +-32767 once: every threshold it meets (park_units, twice it) is below that, so the
+  // saturation changes no decision.
+  __attribute__((noinline)) int16_t update(int16_t reference_units, int16_t measured_units, int16_t feedforward_q15,
                                            int16_t holding_q15 = 0, uint8_t ticks = 1) {
-    const int32_t e = reference_units - measured_units;
-    const uint32_t error = (uint32_t)(e < 0 ? -e : e);
+    const int16_t e = control::sub_saturated_i16(reference_units, measured_units);
+    const uint16_t error = control::distance_u16(e, 0);
     const bool still = feedforward_q15 < c_.pid.zero_band_q15 && -feedforward_q15 < c_.pid.zero_band_q15;
     const uint8_t direction = feedforward_q15 < 0 ? 1 : 0;
     if (still && !was_still_) pid_.preset_integral(0);
@@ -84,26 +88,26 @@ class DcServo {
     // worm that does not back-drive lowers it with none)
     if (still && (e > 0) == (holding_q15 > 0) && e != 0) feedforward_q15 = holding_q15;
     if (parked_) {
-      out_of_band_ = error > 2 * (uint32_t)c_.park_units ? (uint16_t)(out_of_band_ + ticks) : 0;
+      out_of_band_ = error > (uint16_t)(2 * c_.park_units) ? (uint16_t)(out_of_band_ + ticks) : 0;
       if (!still || out_of_band_ >= c_.unpark_ticks) {
         parked_ = false;
         in_band_ = out_of_band_ = 0;
         if (!still) pid_.preset_integral(holding_q15_[direction]);
       } else {
-        pid_.start(reference_units, measured_units, 0);
+        pid_.start_at_error(e, measured_units, 0);
         applied_ = 0;
         return 0;
       }
     }
-    in_band_ = still && error <= (uint32_t)c_.park_units ? (uint16_t)(in_band_ + ticks) : 0;
+    in_band_ = still && error <= (uint16_t)c_.park_units ? (uint16_t)(in_band_ + ticks) : 0;
     if (in_band_ >= c_.park_ticks) {
       parked_ = true;
-      pid_.start(reference_units, measured_units, 0);
+      pid_.start_at_error(e, measured_units, 0);
       applied_ = 0;
       return 0;
     }
     applied_ = c_.use_relay ? relay_.update(reference_units, measured_units)
-                            : pid_.update(reference_units, measured_units, feedforward_q15, ticks);
+                            : pid_.update_at_error(e, measured_units, feedforward_q15, ticks);
     if (!still && !c_.use_relay) applied_ = keep_moving(applied_, direction, e);
     if (!still) holding_q15_[direction] = (int16_t)(pid_.integral_q23() >> 8);
     return applied_;
@@ -121,7 +125,7 @@ class DcServo {
   // loop's timing). At the stiction's duty the joint moves on at its slowest (J4 0.1 rad/s
   // against S1's 0.2, J2 0.04 against 0.1), so the reference draws level again; ahead by more
   // (a reference slower than that), the PID's duty stands: stop or reverse.
-  int16_t keep_moving(int16_t duty_q15, uint8_t direction, int32_t e) const {
+  int16_t keep_moving(int16_t duty_q15, uint8_t direction, int16_t e) const {
     const int16_t min_q15 = c_.pid.min_duty_q15;
     if (direction == 0) return duty_q15 < min_q15 && e > -c_.park_units ? min_q15 : duty_q15;
     return duty_q15 > -min_q15 && e < c_.park_units ? (int16_t)-min_q15 : duty_q15;

@@ -161,7 +161,13 @@ struct PotMap {
     const uint32_t units = (uint32_t)(units_at_max - units_at_min), counts = (uint32_t)(q_max.raw - q_min.raw);
     return PotMap{q_min, units_at_min, scale_for_ratio(units, counts), scale_for_ratio(counts, units)};
   }
-  int32_t units(fx::Angle a) const { return units_at_min + apply(units_per_angle, a.raw - q_min.raw); }
+  // A reference in pot units as 16 bits, saturated to [-16384, 16383]: a reading's range
+  // [0, 16368] and as far again below, so that a reference less a reading fits 16 bits. A
+  // reference within the joint's limits is within [units_at_min, units_at_max], untouched.
+  int16_t units(fx::Angle a) const {
+    const int32_t u = units_at_min + apply(units_per_angle, a.raw - q_min.raw);
+    return (int16_t)(u > 16383 ? 16383 : u < -16384 ? -16384 : u);
+  }
   fx::Angle angle(int32_t units) const { return fx::Angle{q_min.raw + apply(angle_per_unit, units - units_at_min)}; }
 };
 

@@ -34,6 +34,16 @@ inline int32_t sub_saturated(int32_t a, int32_t b) {
   return s;
 }
 
+// a - b of 16-bit operands saturated to +-32767, as saturate_i16(sub_saturated(a, b)) would
+// give: a 16-bit subtraction and the overflow flag (no 32-bit arithmetic)
+inline int16_t sub_saturated_i16(int16_t a, int16_t b) {
+  int16_t s;
+  if (__builtin_sub_overflow(a, b, &s)) return a < 0 ? (int16_t)-32767 : (int16_t)32767;
+  return s == -32768 ? (int16_t)-32767 : s;
+}
+// |a - b| of 16-bit operands, exact: the difference of two int16 values fits 16 bits unsigned
+inline uint16_t distance_u16(int16_t a, int16_t b) { return a < b ? (uint16_t)((uint16_t)b - (uint16_t)a) : (uint16_t)((uint16_t)a - (uint16_t)b); }
+
 // a * n for a product that fits int32 (modulo 2^32 otherwise), from two hardware 16x16
 // products: avr-gcc calls its 32x32 library routine for int32 * uint8
 inline int32_t mul_i32_u8(int32_t a, uint8_t n) {

@@ -22,8 +22,9 @@
 //                                   Inside the zero band the duty is 0 (no hum at rest).
 // Order per sample: P + I + D + feedforward -> saturate -> rate limit (on effort) -> dead-zone inverse.
 //
-// Fixed point: the error and the change of the measurement are saturated to 16 bits, and each
-// term is one 16x16 product (gains Q8), so no term can wrap. Duty and effort are Q15 fractions
+// Fixed point: positions are 16-bit; the error and the change of the measurement are
+// saturated to +-32767 once (a 16-bit subtraction and its overflow flag), and each term is one
+// 16x16 product (gains Q8), so no term can wrap. Duty and effort are Q15 fractions
 // of full PWM (32767 = 100 %): the firmware scales by its timer's TOP. The integral is kept in
 // Q23 (Q15 duty * 256) so that small Ki still integrates. "Position units" are the caller's:
 // e.g. ADC counts * 16, so that a setpoint integrated from a joint velocity keeps its fraction.
@@ -89,7 +90,10 @@ class Pid {
     if (s != PidStatus::ok) return s;
     c_ = c;
     // dead-zone inverse slope (out_max - min) / out_max in Q15, computed once
+    integral_limit_ = (int32_t)c.out_max_q15 << 8;
     slope_q15_ = (uint16_t)(((int32_t)(c.out_max_q15 - c.min_duty_q15) << 15) / c.out_max_q15);
+    p_error_limit_ = term_error_limit(kTermLimit, c.gains.kp_q4);
+    d_change_limit_ = term_error_limit(kTermLimit / 16, c.gains.kd);
     configured_ = true;
     start(0, 0, 0);
     return s;
@@ -97,12 +101,17 @@ class Pid {
 
   // Bumpless start: the next update with the same inputs outputs applied_effort_q15 (plus one
   // sample of integration).
-  void start(int32_t setpoint, int32_t measurement, int16_t applied_effort_q15) {
+  void start(int16_t setpoint, int16_t measurement, int16_t applied_effort_q15) {
+    start_at_error(sub_saturated_i16(setpoint, measurement), measurement, applied_effort_q15);
+  }
+  // the same with the error setpoint - measurement already formed and saturated to +-32767
+  // (a caller that needs it too: one subtraction)
+  void start_at_error(int16_t error, int16_t measurement, int16_t applied_effort_q15) {
     m_prev_ = measurement;
-    effort_ = (int16_t)clamp_i32(applied_effort_q15, -c_.out_max_q15, c_.out_max_q15);
-    const int16_t e = saturate_i16(sub_saturated(setpoint, measurement));
-    const int32_t p_q19 = fx::mul_ss(e, c_.gains.kp_q4);
-    integral_q23_ = clamp_integral(((int32_t)effort_ << 8) - clamp_i32(p_q19, -kTermLimit, kTermLimit) * 16);
+    effort_ = applied_effort_q15 > c_.out_max_q15    ? c_.out_max_q15
+              : applied_effort_q15 < -c_.out_max_q15 ? (int16_t)-c_.out_max_q15
+                                                     : applied_effort_q15;
+    integral_q23_ = clamp_integral(((int32_t)effort_ << 8) - p_q23(error));
   }
 
   // Preset the integral to an effort the loop is known to need (a load it held before), so
@@ -112,12 +121,15 @@ class Pid {
   // One sample: the duty (Q15, signed) to apply. samples: how many sample periods passed since
   // the last update (a caller that overran): the integral, the output's rate limit and the
   // measurement's rate scale with it, so that the gains keep their meaning in time.
-  int16_t update(int32_t setpoint, int32_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
+  int16_t update(int16_t setpoint, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
+    return update_at_error(sub_saturated_i16(setpoint, measurement), measurement, feedforward_q15, samples);
+  }
+  // the same with the error setpoint - measurement already formed and saturated to +-32767
+  int16_t update_at_error(int16_t e, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
     if (!configured_) return 0;
-    const int16_t e = saturate_i16(sub_saturated(setpoint, measurement));
-    int16_t dm = saturate_i16(sub_saturated(measurement, m_prev_));
+    int16_t dm = sub_saturated_i16(measurement, m_prev_);
     m_prev_ = measurement;
-    int32_t di = fx::mul_ss(e, c_.gains.ki_q8);  // Q23
+    int32_t di = e == 0 ? 0 : fx::mul_ss(e, c_.gains.ki_q8);  // Q23 (a joint on its reference: no product)
     if (samples != 1) {  // an overran call: the measurement's change per period, the integral over all
       dm = per_sample(dm, samples);
       if (samples > 1) di = mul_i32_u8(clamp_integral(di), samples);  // at most full output a sample: no overflow
@@ -128,20 +140,28 @@ class Pid {
     // s = 16 P + I, that sum's u = P + 16 (ff - D) + floor(I / 16) is floor(s / 16) + 16 t, and
     // its rounded, clamped effort is clamp(floor((s + 128) / 256) + t, lo, hi); so the only
     // shift by other than whole bytes left is 16 P (shifts by 4 are loops on the AVR).
-    const int32_t p_q23 = clamp_i32(fx::mul_ss(e, c_.gains.kp_q4), -kTermLimit, kTermLimit) * 16;
-    const int32_t t_q15 =
-        (int32_t)feedforward_q15 - clamp_i32(fx::mul_ss(dm, c_.gains.kd), -kTermLimit / 16, kTermLimit / 16);
-    // the effort's limits this sample; effort_ stays within +-out_max, so each side has one bound
-    const int32_t rate = (int32_t)fx::mul_uu((uint16_t)c_.rate_q15, samples);
-    const int32_t up = effort_ + rate, down = effort_ - rate;
-    const int32_t hi = up > c_.out_max_q15 ? c_.out_max_q15 : up;
-    const int32_t lo = down < -c_.out_max_q15 ? -c_.out_max_q15 : down;
-    const int32_t trial = clamp_integral(integral_q23_ + di);
-    const int32_t s_trial = p_q23 + trial;
+    const int32_t p = p_q23(e);
+    // (a reading in ADC counts x 16 stands still most samples: no product then)
+    const int32_t d_q15 = dm == 0                                  ? 0
+                          : distance_u16(dm, 0) > d_change_limit_ ? (dm < 0 ? -kTermLimit / 16 : kTermLimit / 16)
+                                                                   : fx::mul_ss(dm, c_.gains.kd);
+    const int32_t t_q15 = (int32_t)feedforward_q15 - d_q15;
+    // the effort's limits this sample; effort_ stays within +-out_max, so each side has one
+    // bound, and the room to it (0 .. 2 out_max) fits 16 bits unsigned, as does a rate past it
+    const uint16_t rate = samples == 1 ? (uint16_t)c_.rate_q15 : rate_over(samples);
+    const uint16_t room_up = (uint16_t)(c_.out_max_q15 - effort_), room_down = (uint16_t)(c_.out_max_q15 + effort_);
+    const int16_t hi = rate >= room_up ? c_.out_max_q15 : (int16_t)(effort_ + rate);
+    const int16_t lo = rate >= room_down ? (int16_t)-c_.out_max_q15 : (int16_t)(effort_ - rate);
     // conditional integration: hold the integral when it would push further into a limit
-    // (u > 16 hi is s > 256 (hi - t) + 15, u < 16 lo is s < 256 (lo - t))
-    if (!((di > 0 && s_trial > (hi - t_q15) * 256 + 15) || (di < 0 && s_trial < (lo - t_q15) * 256))) integral_q23_ = trial;
-    effort_ = (int16_t)clamp_i32(((p_q23 + integral_q23_ + 128) >> 8) + t_q15, lo, hi);
+    // (u > 16 hi is s > 256 (hi - t) + 15, u < 16 lo is s < 256 (lo - t)). di has the sign of
+    // e (Ki >= 0, samples >= 0), and di = 0 leaves the integral as it is (always within its
+    // clamp): the 32-bit sum, clamp and compare only when it integrates.
+    if (e != 0 && c_.gains.ki_q8 != 0) {
+      const int32_t trial = clamp_integral(integral_q23_ + di);
+      const int32_t s_trial = p + trial;
+      if (e > 0 ? s_trial <= (hi - t_q15) * 256 + 15 : s_trial >= (lo - t_q15) * 256) integral_q23_ = trial;
+    }
+    effort_ = (int16_t)clamp_i32(((p + integral_q23_ + 128) >> 8) + t_q15, lo, hi);
     return duty_for(effort_);
   }
 
@@ -159,6 +179,26 @@ class Pid {
  private:
   static constexpr int32_t kTermLimit = (int32_t)1 << 26;  // Q19: 128 x full output
 
+  // The largest |x| whose product with gain stays within limit: a term is clamped when |x| is
+  // past it (|x| gain > limit is |x| > floor(limit / gain)), a 16-bit compare in place of the
+  // product's 32-bit clamp. 65535: never.
+  static uint16_t term_error_limit(int32_t limit, int16_t gain) {
+    const int32_t x = gain == 0 ? 65535 : limit / gain;
+    return (uint16_t)(x > 65535 ? 65535 : x);
+  }
+  // P in Q23: the error's product (Q19) clamped to +-kTermLimit, times 16
+  int32_t p_q23(int16_t e) const {
+    if (e == 0) return 0;
+    if (distance_u16(e, 0) > p_error_limit_) return e < 0 ? -kTermLimit * 16 : kTermLimit * 16;
+    return fx::mul_ss(e, c_.gains.kp_q4) * 16;
+  }
+  // the rate limit over an overran call's samples, capped at 65535 (past the full span
+  // 2 out_max, any rate is the same)
+  uint16_t rate_over(uint8_t samples) const {
+    const uint32_t r = fx::mul_uu((uint16_t)c_.rate_q15, samples);
+    return (uint16_t)(r > 65535 ? 65535 : r);
+  }
+
   // the change of the measurement over `samples` periods as a change per period (an overran
   // loop: rare, so out of line, and tested once in update so that the compiler does not copy
   // the whole update per case of `samples`, 600 bytes)
@@ -168,15 +208,14 @@ class Pid {
     return dm;
   }
 
-  int32_t clamp_integral(int32_t i) const {
-    const int32_t limit = (int32_t)c_.out_max_q15 << 8;
-    return clamp_i32(i, -limit, limit);
-  }
+  int32_t clamp_integral(int32_t i) const { return clamp_i32(i, -integral_limit_, integral_limit_); }
 
   PidConfig c_{{0, 0, 0}, 1, 1, 0, 0};
   bool configured_ = false;
   uint16_t slope_q15_ = 32768;
-  int32_t m_prev_ = 0;
+  uint16_t p_error_limit_ = 65535, d_change_limit_ = 65535;
+  int32_t integral_limit_ = 256;  // out_max in Q23
+  int16_t m_prev_ = 0;
   int16_t effort_ = 0;
   int32_t integral_q23_ = 0;
 };

@@ -9,8 +9,10 @@
 //               the joint can move (a wiper lifting, a broken wire, a noisy channel);
 //   rail        the reading is outside [rail_low, rail_high] for rail_samples samples in a row
 //               (an open or shorted potentiometer reads at a rail).
-// A rail or jump sample is not used for the motion checks. The checks use only comparisons and
-// 32-bit sums. Flags stay set until reset().
+// A rail or jump sample is not used for the motion checks. Positions are 16-bit (pot units:
+// ADC counts x 16); the checks use only comparisons and 16-bit differences, saturated to
+// +-32767 where signed (every threshold is below that, so the saturation changes no decision).
+// Flags stay set until reset().
 #pragma once
 
 #include <stdint.h>
@@ -30,12 +32,12 @@ enum PlausibilityFault : uint8_t {
 struct PlausibilityConfig {
   int16_t drive_threshold_q15;  // |duty| at or above which the joint must move, > 0
   uint16_t stall_samples;       // > 0
-  int32_t stall_progress;       // units forward within stall_samples, > 0
+  int16_t stall_progress;       // units forward within stall_samples, > 0
   uint16_t sign_grace_samples;  // after a reversal of the drive
-  int32_t sign_distance;        // units against the drive, > 0
-  int32_t max_step;             // largest plausible |change| per sample, > 0
-  int32_t rail_low;             // readings below are a rail
-  int32_t rail_high;            // readings above are a rail
+  int16_t sign_distance;        // units against the drive, > 0
+  int16_t max_step;             // largest plausible |change| per sample, > 0
+  int16_t rail_low;             // readings below are a rail
+  int16_t rail_high;            // readings above are a rail
   uint8_t rail_samples;         // > 0
 };
 
@@ -60,7 +62,7 @@ class PlausibilityMonitor {
   }
 
   // Clears the flags; position is the present reading.
-  void reset(int32_t position) {
+  void reset(int16_t position) {
     faults_ = 0;
     prev_ = position;
     have_prev_ = false;
@@ -73,7 +75,7 @@ class PlausibilityMonitor {
   // the joint may have moved that many steps. Returns the latched flags.
   // Not inlined: one copy serves the three DC joints (inlined in the caller's loop it took the
   // registers of the code around it).
-  __attribute__((noinline)) uint8_t update(int16_t duty_q15, int32_t position, uint8_t samples = 1) {
+  __attribute__((noinline)) uint8_t update(int16_t duty_q15, int16_t position, uint8_t samples = 1) {
     if (!configured_) return faults_;
     if (position < c_.rail_low || position > c_.rail_high) {
       rail_count_ = rail_count_ > 255 - samples ? (uint8_t)255 : (uint8_t)(rail_count_ + samples);
@@ -83,8 +85,9 @@ class PlausibilityMonitor {
     }
     rail_count_ = 0;
     // the largest plausible change over the samples (one sample, the usual call: no product)
-    const uint32_t max_change = samples == 1 ? (uint32_t)c_.max_step : (uint32_t)c_.max_step * samples;
-    if (have_prev_ && magnitude_u32(sub_saturated(position, prev_)) > max_change) {
+    // over several samples capped at 65535, past every 16-bit distance: the same decision
+    const uint16_t max_change = samples == 1 ? (uint16_t)c_.max_step : max_step_over(samples);
+    if (have_prev_ && distance_u16(position, prev_) > max_change) {
       faults_ |= kFaultJump;
       prev_ = position;
       drive_dir_ = 0;
@@ -107,7 +110,8 @@ class PlausibilityMonitor {
       return faults_;
     }
     // forward motion of the joint, in the drive's sense
-    const int32_t forward = dir > 0 ? sub_saturated(position, stall_anchor_) : sub_saturated(stall_anchor_, position);
+    const int16_t forward =
+        dir > 0 ? sub_saturated_i16(position, stall_anchor_) : sub_saturated_i16(stall_anchor_, position);
     if (forward >= c_.stall_progress) {
       stall_anchor_ = position;
       stall_count_ = 0;
@@ -119,7 +123,7 @@ class PlausibilityMonitor {
       grace_ = grace_ > samples ? (uint16_t)(grace_ - samples) : (uint16_t)0;
       peak_ = position;
     } else {
-      const int32_t ahead = dir > 0 ? sub_saturated(position, peak_) : sub_saturated(peak_, position);
+      const int16_t ahead = dir > 0 ? sub_saturated_i16(position, peak_) : sub_saturated_i16(peak_, position);
       if (ahead > 0) {
         peak_ = position;
       } else if (ahead <= -c_.sign_distance) {
@@ -132,16 +136,21 @@ class PlausibilityMonitor {
   uint8_t faults() const { return faults_; }
 
  private:
+  uint16_t max_step_over(uint8_t samples) const {
+    const uint32_t m = fx::mul_uu((uint16_t)c_.max_step, samples);
+    return (uint16_t)(m > 65535 ? 65535 : m);
+  }
+
   PlausibilityConfig c_{1, 1, 1, 0, 1, 1, 0, 1, 1};
   bool configured_ = false;
   uint8_t faults_ = 0;
-  int32_t prev_ = 0;
+  int16_t prev_ = 0;
   bool have_prev_ = false;
   int8_t drive_dir_ = 0;
-  int32_t stall_anchor_ = 0;
+  int16_t stall_anchor_ = 0;
   uint16_t stall_count_ = 0;
   uint16_t grace_ = 0;
-  int32_t peak_ = 0;
+  int16_t peak_ = 0;
   uint8_t rail_count_ = 0;
 };
 

@@ -46,7 +46,7 @@ __attribute__((always_inline)) inline void side(ComparePin p, uint16_t duty_q15)
 template <uint8_t kJoint>
 void set_joint(int16_t duty_q15) {
   constexpr const board::BridgePins& b = kPins(kJoint);
-  const uint16_t magnitude = (uint16_t)(duty_q15 < 0 ? -(int32_t)duty_q15 : duty_q15);
+  const uint16_t magnitude = duty_q15 < 0 ? (uint16_t)(0u - (uint16_t)duty_q15) : (uint16_t)duty_q15;  // 16-bit negation
   const uint8_t s = SREG;
   cli();  // the e-stop ISR writes the same TCCRnA registers
   if (duty_q15 > 0) {

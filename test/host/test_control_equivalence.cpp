@@ -1,6 +1,7 @@
 // The control blocks' faster sample functions against their previous versions
 // (control_reference.h), bit for bit: 10^6 random samples each, seeded, with random
-// configurations, inputs from the everyday range to the int32 extremes, and overran calls.
+// configurations, inputs from the everyday range to the int16 extremes (positions are 16-bit:
+// pot units), and overran calls.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -19,11 +20,16 @@ struct Random {
   int32_t in(int32_t lo, int32_t hi) { return std::uniform_int_distribution<int32_t>(lo, hi)(rng); }
   bool one_in(int n) { return in(0, n - 1) == 0; }
   // mostly small, sometimes a saturating value, rarely an extreme
-  int32_t spread(int32_t small) {
+  int16_t spread(int16_t small) {
     const int k = in(0, 99);
-    if (k < 80) return in(-small, small);
-    if (k < 97) return in(-(1 << 22), 1 << 22);
-    return in(INT32_MIN, INT32_MAX);
+    if (k < 80) return (int16_t)in(-small, small);
+    if (k < 97) return (int16_t)in(-16384, 16383);
+    return (int16_t)in(INT16_MIN, INT16_MAX);
+  }
+  // a position's random step, kept within 16 bits
+  int16_t walk(int16_t from, int32_t step) {
+    const int32_t to = (int32_t)from + in(-step, step);
+    return (int16_t)(to < INT16_MIN ? INT16_MIN : to > INT16_MAX ? INT16_MAX : to);
   }
   uint8_t samples() {
     const int k = in(0, 99);
@@ -61,7 +67,7 @@ TEST(ControlEquivalence, PidUpdateIsBitIdenticalToTheQ19Version) {
   Pid pid;
   reference::Pid ref;
   int64_t compared = 0, integrated = 0, held = 0, limited = 0, inside = 0;
-  int32_t measurement = 0, setpoint = 0;
+  int16_t measurement = 0, setpoint = 0;
   while (compared < 1000000) {
     const bool tiny = r.one_in(2);
     const PidConfig c = random_pid_config(r, tiny);
@@ -78,12 +84,12 @@ TEST(ControlEquivalence, PidUpdateIsBitIdenticalToTheQ19Version) {
           ref.preset_integral(applied);
         }
       }
-      if (r.one_in(50)) setpoint = tiny ? r.in(-100, 100) : r.spread(20000);
-      setpoint = add_saturated(setpoint, r.in(-walk, walk));
+      if (r.one_in(50)) setpoint = tiny ? (int16_t)r.in(-100, 100) : r.spread(20000);
+      setpoint = r.walk(setpoint, walk);
       // the joint mostly follows within a few counts, sometimes lags or jumps far
-      measurement = r.one_in(100) ? (tiny ? r.in(-100, 100) : r.spread(20000))
-                    : r.one_in(3) ? add_saturated(measurement, r.in(-walk, walk))
-                                  : add_saturated(setpoint, r.in(-walk / 2, walk / 2));
+      measurement = r.one_in(100) ? (tiny ? (int16_t)r.in(-100, 100) : r.spread(20000))
+                    : r.one_in(3) ? r.walk(measurement, walk)
+                                  : r.walk(setpoint, walk / 2);
       const int16_t ff = (int16_t)(tiny ? r.in(-15, 15) : r.one_in(10) ? r.in(-32768, 32767) : r.in(-3000, 3000));
       const uint8_t n = r.samples();
       const int32_t before = ref.integral_q23();
