@@ -98,7 +98,8 @@ void emit_pid_relay(Put& put) {
   for (uint16_t k = 0; k < 2000; ++k) {
     if (k % 97 == 0) sp = rng.in_range(0, 16368);
     m += rng.in_range(-40, 40);
-    if (k % 331 == 0) m = rng.in_range(-100000, 100000);  // garbage readings too
+    if (k % 331 == 0) m = rng.in_range(-32767, 32767);  // garbage readings too: anywhere in the positions' int16
+    m = m < -32767 ? -32767 : m > 32767 ? 32767 : m;
     hp.add((uint32_t)pid.update(sp, m));
     hp.add((uint32_t)pid.integral_q23());
     hr.add((uint32_t)relay.update(sp, m));
