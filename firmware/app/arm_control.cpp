@@ -395,7 +395,7 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   twist.v_m_s.z = v_cmd.z + g_drift_m_s.z;
 
   const core::JointRates rates = core::resolved_rate(q, trig, twist, kLimits, &g_drives);
-  g_status.slowed_by = rates.slowed_by;
+  g_status.slowed_by = (uint8_t)(rates.slowed_by | (tracking.raw < fx::kUnitOne ? core::kSlowTracking : 0));
   fx::Real max_change[6];  // one tick's is the table (32-bit products otherwise)
   if (ticks != 1) {
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
@@ -468,9 +468,23 @@ WMRA_SMALL void update_holding() {
   static constexpr fx::Real kFullDutySpeed[3] = {fx::real(Ratio{kDcFullDutySpeed_crad_s[0], 100}),
                                                  fx::real(Ratio{kDcFullDutySpeed_crad_s[1], 100}),
                                                  fx::real(Ratio{kDcFullDutySpeed_crad_s[2], 100})};
+  // the duty that moves a DC joint at its speed limit without load (Q15)
+  static constexpr int16_t kLimitDuty_q15[3] = {
+      (int16_t)(32767L * kJointSpeedLimit_crad_s[kDcJoint[0]] / kDcFullDutySpeed_crad_s[0]),
+      (int16_t)(32767L * kJointSpeedLimit_crad_s[kDcJoint[1]] / kDcFullDutySpeed_crad_s[1]),
+      (int16_t)(32767L * kJointSpeedLimit_crad_s[kDcJoint[2]] / kDcFullDutySpeed_crad_s[2])};
+  static_assert(kJointSpeedLimit_crad_s[kDcJoint[0]] <= kDcFullDutySpeed_crad_s[0] &&
+                    kJointSpeedLimit_crad_s[kDcJoint[1]] <= kDcFullDutySpeed_crad_s[1] &&
+                    kJointSpeedLimit_crad_s[kDcJoint[2]] <= kDcFullDutySpeed_crad_s[2],
+                "a DC joint's speed limit within what its drive reaches at full duty");
   for (uint8_t d = 0; d < 3; ++d) {
     const int16_t h = g_holding.duty_q15[d];
     g_holding_effort_q15[d] = effort_for_duty(h);
+    // the speed governor: each way, the effort of the speed limit and of the load's lifting
+    // (the feedforward's model at the limit speed, without the acceleration's term)
+    g_servo[d].set_effort_bounds(
+        effort_for_duty(control::saturate_i16((int32_t)kLimitDuty_q15[d] + core::lifting_effort_q15(h, 1))),
+        effort_for_duty(control::saturate_i16((int32_t)kLimitDuty_q15[d] - core::lifting_effort_q15(h, -1))));
     const int16_t up = (int16_t)(kUsable_q15 - (h > 0 ? h : 0)), down = (int16_t)(kUsable_q15 - (h < 0 ? -h : 0));
     g_drives.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * (fx::Unit{kPlanned_q15} * kFullDutySpeed[d]);
     g_drives.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * (fx::Unit{kPlanned_q15} * kFullDutySpeed[d]);

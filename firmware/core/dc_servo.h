@@ -62,6 +62,11 @@ class DcServo {
   }
   void reset_checks(int16_t measured_units) { checks_.reset(measured_units); }
 
+  // The PID's effort at most up_q15 positive and down_q15 negative (magnitudes): the effort
+  // that drives the joint at its speed limit each way, so that a joint catching up a lag does
+  // not pass that limit (the reference's speed is limited, the joint's catch-up is not).
+  void set_effort_bounds(int16_t up_q15, int16_t down_q15) { pid_.set_effort_bounds(up_q15, down_q15); }
+
   // The reading of this tick: runs the checks (on the duty applied since the last reading, over
   // `ticks` control ticks).
   uint8_t check(int16_t measured_units, uint8_t ticks = 1) { return checks_.update(applied_, measured_units, ticks); }

@@ -38,6 +38,7 @@ enum SlowReason : uint8_t {
   kSlowSoftLimit = 2,
   kSlowJointSpeed = 4,
   kSlowDriveLoad = 8,
+  kSlowTracking = 16,  // set by the caller: a DC joint lags its reference, the whole motion slows
 };
 
 // The fastest each joint's drive can turn it now, each way (rad/s): a DC joint that lifts its

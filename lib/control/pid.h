@@ -16,6 +16,11 @@
 //   output rate limit               the effort changes by at most rate_q15 per sample: no step
 //                                   of motor voltage (the joystick ramps the setpoint, this
 //                                   covers disturbances and start-up);
+//   effort bounds                   the caller may bound the effort each way below out_max
+//                                   (set_effort_bounds: a speed governor, the effort that drives
+//                                   the joint at its speed limit); anti-windup holds the integral
+//                                   at them as at out_max, and an effort beyond a bound that fell
+//                                   comes back at the rate limit;
 //   stiction / dead-zone inverse    effort e > zero band maps to min_duty + e (1 - min/max):
 //                                   the joint's dead zone (seed 2: ~30/255) is skipped, the
 //                                   gain above it is kept, and |duty| <= out_max still holds.
@@ -94,9 +99,18 @@ class Pid {
     slope_q15_ = (uint16_t)(((int32_t)(c.out_max_q15 - c.min_duty_q15) << 15) / c.out_max_q15);
     p_error_limit_ = term_error_limit(kTermLimit, c.gains.kp_q4);
     d_change_limit_ = term_error_limit(kTermLimit / 16, c.gains.kd);
+    top_ = c.out_max_q15;
+    bottom_ = (int16_t)-c.out_max_q15;
     configured_ = true;
     start(0, 0, 0);
     return s;
+  }
+
+  // The effort's bounds: at most up_q15 positive and down_q15 negative (magnitudes, each
+  // within [0, out_max]; out_max both after configure)
+  void set_effort_bounds(int16_t up_q15, int16_t down_q15) {
+    top_ = clamp_bound(up_q15);
+    bottom_ = (int16_t)-clamp_bound(down_q15);
   }
 
   // Bumpless start: the next update with the same inputs outputs applied_effort_q15 (plus one
@@ -146,12 +160,11 @@ class Pid {
                           : distance_u16(dm, 0) > d_change_limit_ ? (dm < 0 ? -kTermLimit / 16 : kTermLimit / 16)
                                                                    : fx::mul_ss(dm, c_.gains.kd);
     const int32_t t_q15 = (int32_t)feedforward_q15 - d_q15;
-    // the effort's limits this sample; effort_ stays within +-out_max, so each side has one
-    // bound, and the room to it (0 .. 2 out_max) fits 16 bits unsigned, as does a rate past it
+    // the effort's limits this sample: from where it is towards each bound, at most the rate
+    // (top_ >= 0 >= bottom_, so lo <= hi also when a bound fell below the effort)
     const uint16_t rate = samples == 1 ? (uint16_t)c_.rate_q15 : rate_over(samples);
-    const uint16_t room_up = (uint16_t)(c_.out_max_q15 - effort_), room_down = (uint16_t)(c_.out_max_q15 + effort_);
-    const int16_t hi = rate >= room_up ? c_.out_max_q15 : (int16_t)(effort_ + rate);
-    const int16_t lo = rate >= room_down ? (int16_t)-c_.out_max_q15 : (int16_t)(effort_ - rate);
+    const int16_t hi = towards(effort_, top_, rate);
+    const int16_t lo = towards(effort_, bottom_, rate);
     // conditional integration: hold the integral when it would push further into a limit
     // (u > 16 hi is s > 256 (hi - t) + 15, u < 16 lo is s < 256 (lo - t)). di has the sign of
     // e (Ki >= 0, samples >= 0), and di = 0 leaves the integral as it is (always within its
@@ -209,6 +222,14 @@ class Pid {
   }
 
   int32_t clamp_integral(int32_t i) const { return clamp_i32(i, -integral_limit_, integral_limit_); }
+  int16_t clamp_bound(int16_t b) const { return b < 0 ? (int16_t)0 : b > c_.out_max_q15 ? c_.out_max_q15 : b; }
+
+  // from moved towards `to` by at most step (both within +-out_max: their distance fits 16
+  // bits unsigned, as does a step past it)
+  static int16_t towards(int16_t from, int16_t to, uint16_t step) {
+    if (to >= from) return (uint16_t)(to - from) <= step ? to : (int16_t)(from + step);
+    return (uint16_t)(from - to) <= step ? to : (int16_t)(from - step);
+  }
 
   PidConfig c_{{0, 0, 0}, 1, 1, 0, 0};
   bool configured_ = false;
@@ -217,6 +238,7 @@ class Pid {
   int32_t integral_limit_ = 256;  // out_max in Q23
   int16_t m_prev_ = 0;
   int16_t effort_ = 0;
+  int16_t top_ = 1, bottom_ = -1;  // the effort's bounds (set_effort_bounds)
   int32_t integral_q23_ = 0;
 };
 

@@ -21,8 +21,9 @@ constexpr const char* kStatusNames[] = {"ok", "unknown_command", "bad_length", "
 static_assert((uint8_t)protocol::ReplyStatus::refused == 4, "a name for every ReplyStatus");
 // MCUSR bits 0..4, and bit 7: the firmware inferred the cause (lib/drivers/watchdog.h)
 constexpr const char* kResetCauseNames[] = {"power_on", "external", "brown_out", "watchdog", "jtag", "", "", "inferred"};
-constexpr const char* kSlowReasonNames[] = {"singular", "soft_limit", "joint_speed", "drive_load"};
-static_assert(core::kSlowSingular == 1 && core::kSlowSoftLimit == 2 && core::kSlowJointSpeed == 4 && core::kSlowDriveLoad == 8,
+constexpr const char* kSlowReasonNames[] = {"singular", "soft_limit", "joint_speed", "drive_load", "tracking"};
+static_assert(core::kSlowSingular == 1 && core::kSlowSoftLimit == 2 && core::kSlowJointSpeed == 4 && core::kSlowDriveLoad == 8 &&
+                  core::kSlowTracking == 16,
               "kSlowReasonNames[bit]");
 constexpr const char* kSwitchNames[] = {"j1_low", "j1_high", "j2_low", "j2_high", "j3_low", "j3_high",
                                         "j4_low", "j4_high", "j5_low", "j5_high", "j6_zero"};
