@@ -133,7 +133,13 @@ constexpr int32_t kSoftLimitZoneCounts = fx::angle_deg(Ratio{config::kSoftLimitZ
 // Step 3 for a joint moving `distance` counts short of its soft stop, within the zone or the
 // braking distance: its speed limit scaled down. Not inlined: the joint loop, which needs it
 // for a few joints at most, keeps its registers.
-__attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimits& limit, int32_t distance) {
+// The braking speed's square root (~300 cycles) is taken only where it slows the joint. When
+// the joint's speed at the current scale, moving = scaled(s, |qd|) (what
+// limit_scale compares), is at most the braking speed, the zone's speed is returned instead:
+// at least the braking speed, so at least moving. The caller's s and reason are the same as
+// with the braking speed: limit_scale leaves s for any allowed >= moving, and a drive slower
+// than moving is below both (kSlowDriveLoad either way).
+__attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimits& limit, int32_t distance, fx::Unit s, fx::Real qd) {
   static constexpr fx::Real kInvZone = fx::real(Ratio{1, kSoftLimitZoneCounts});  // per angle count
   static_assert(kSoftLimitZoneCounts < 32768 && kInvZone.raw < 32768, "the soft-limit zone's fraction is a 16x16 product");
   fx::Real allowed = limit.speed_rad_s;
@@ -147,7 +153,14 @@ __attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimit
     // the square root (~300 cycles) only when it limits
     const uint32_t v = distance <= 0 ? 0 : (uint32_t)apply(limit.brake_speed_sq, distance);
     const uint16_t allowed_q10 = (uint16_t)((allowed.raw + 8191) >> 13);
-    if (v < fx::mul_uu(allowed_q10, allowed_q10)) allowed = fx::Real{(int32_t)fx::isqrt32(v) << 13};
+    if (v < fx::mul_uu(allowed_q10, allowed_q10)) {
+      // floor(sqrt(v)) 2^13 >= moving exactly when v >= ceil(moving / 2^13)^2; a moving_q10
+      // beyond 16 bits is faster than any braking speed (sqrt(v) < 2^16)
+      const uint32_t moving_q10 = ((uint32_t)scaled(s, fx::Real{qd.raw < 0 ? -qd.raw : qd.raw}).raw + 8191) >> 13;
+      if (moving_q10 > 0xFFFFu || v < fx::mul_uu((uint16_t)moving_q10, (uint16_t)moving_q10)) {
+        allowed = fx::Real{(int32_t)fx::isqrt32(v) << 13};
+      }
+    }
   }
   return allowed;
 }
@@ -196,7 +209,9 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
     fx::Real allowed = limit.speed_rad_s;
     if (qd[j].raw != 0) {
       const int32_t distance = qd[j].raw > 0 ? limit.soft_max.raw - q.q[j].raw : q.q[j].raw - limit.soft_min.raw;
-      if (distance < kSoftLimitZoneCounts || distance < limit.brake_from) allowed = near_stop_speed(limit, distance);
+      if (distance < kSoftLimitZoneCounts || distance < limit.brake_from) {
+        allowed = near_stop_speed(limit, distance, s, qd[j]);
+      }
     }
     uint8_t reason = allowed < limit.speed_rad_s ? kSlowSoftLimit : kSlowJointSpeed;
     if (drives) {
