@@ -57,6 +57,9 @@ struct JointRates {
   uint8_t slowed_by;  // SlowReason bits
 };
 
+// the soft-limit zone, Angle counts: closer to a soft stop, the speed limit falls to 0 at the stop
+constexpr int32_t kSoftLimitZoneCounts = fx::angle_deg(Ratio{config::kSoftLimitZone_deg, 1}).raw;
+
 // one joint's limits, together: the loop over the joints then walks one table (a table per
 // limit kept five pointers, which avr-gcc spilled to the stack)
 struct JointMotionLimits {
@@ -64,6 +67,7 @@ struct JointMotionLimits {
   fx::Angle soft_min;
   fx::Angle soft_max;
   int32_t brake_from;   // Angle counts: closer to a soft stop, braking limits the speed
+  int32_t near_from;    // the larger of brake_from and the zone: closer, near_stop_speed (one test)
   Scale brake_speed_sq;  // the braking speed squared, (2^-10 rad/s)^2, per Angle count
 };
 struct MotionLimits {
@@ -79,12 +83,15 @@ constexpr int32_t brake_from_counts(int16_t speed_crad_s, int16_t accel_crad_s2)
   return (int32_t)((speed_crad_s / 100.0) * (speed_crad_s / 100.0) / (1.5 * accel_crad_s2 / 100.0) * kAngleCountsPerRad) + 1;
 }
 
+constexpr int32_t near_from_counts(int32_t brake_from) { return brake_from > kSoftLimitZoneCounts ? brake_from : kSoftLimitZoneCounts; }
+
 constexpr JointMotionLimits joint_motion_limits(uint8_t j) {
   using L = kin::JointLimits<Fixed>;
   return JointMotionLimits{fx::real(Ratio{config::kJointSpeedLimit_crad_s[j], 100}),
                            fx::Angle{L::min[j].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
                            fx::Angle{L::max[j].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
                            brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]),
+                           near_from_counts(brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j])),
                            scale_for(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]))};
 }
 
@@ -126,9 +133,6 @@ inline fx::Unit limit_scale(fx::Unit s, fx::Real qd, fx::Real allowed) {
   const fx::Unit quotient = fraction(allowed * fx::reciprocal(speed));
   return fx::Unit{(int16_t)(quotient.raw > 2 ? quotient.raw - 2 : 0)};
 }
-
-// the soft-limit zone, Angle counts: closer to a soft stop, the speed limit falls to 0 at the stop
-constexpr int32_t kSoftLimitZoneCounts = fx::angle_deg(Ratio{config::kSoftLimitZone_deg, 1}).raw;
 
 // Step 3 for a joint moving `distance` counts short of its soft stop, within the zone or the
 // braking distance: its speed limit scaled down. Not inlined: the joint loop, which needs it
@@ -209,7 +213,7 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
     fx::Real allowed = limit.speed_rad_s;
     if (qd[j].raw != 0) {
       const int32_t distance = qd[j].raw > 0 ? limit.soft_max.raw - q.q[j].raw : q.q[j].raw - limit.soft_min.raw;
-      if (distance < kSoftLimitZoneCounts || distance < limit.brake_from) {
+      if (distance < limit.near_from) {
         allowed = near_stop_speed(limit, distance, s, qd[j]);
       }
     }
