@@ -68,7 +68,9 @@ struct JointMotionLimits {
   fx::Angle soft_max;
   int32_t brake_from;   // Angle counts: closer to a soft stop, braking limits the speed
   int32_t near_from;    // the larger of brake_from and the zone: closer, near_stop_speed (one test)
-  Scale brake_speed_sq;  // the braking speed squared, (2^-10 rad/s)^2, per Angle count
+  // the braking speed squared, (2^-10 rad/s)^2 per Angle count, Q8 rounded down (the braking
+  // speed at most 3/4 a's): with brake_from < 2^16, v is one 16x16 product and a byte shift
+  uint16_t brake_speed_sq_q8;
 };
 struct MotionLimits {
   JointMotionLimits joint[arm::kJoints];
@@ -92,8 +94,18 @@ constexpr JointMotionLimits joint_motion_limits(uint8_t j) {
                            fx::Angle{L::max[j].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
                            brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]),
                            near_from_counts(brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j])),
-                           scale_for(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]))};
+                           (uint16_t)(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]) * 256.0)};
 }
+// the braking distance and the braking speed's factor in 16 bits for every joint (a scale,
+// ~110 cycles with its shift by a run-time exponent, was what the configuration needed beyond)
+constexpr bool braking_in_16_bits() {
+  for (uint8_t j = 0; j < arm::kJoints; ++j) {
+    if (brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]) >= 65536) return false;
+    if (brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]) * 256.0 >= 65536.0) return false;
+  }
+  return true;
+}
+static_assert(braking_in_16_bits(), "a joint's braking distance (speed^2 / 1.5 a) and 1.5 a per count x 256 fit 16 bits");
 
 constexpr MotionLimits motion_limits() {
   return MotionLimits{{joint_motion_limits(0), joint_motion_limits(1), joint_motion_limits(2), joint_motion_limits(3),
@@ -155,7 +167,7 @@ __attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimit
   if (distance < limit.brake_from) {
     // brake = floor(sqrt(v)) 2^13 is below allowed exactly when v < ceil(allowed / 2^13)^2:
     // the square root (~300 cycles) only when it limits
-    const uint32_t v = distance <= 0 ? 0 : (uint32_t)apply(limit.brake_speed_sq, distance);
+    const uint32_t v = distance <= 0 ? 0 : fx::mul_uu((uint16_t)distance, limit.brake_speed_sq_q8) >> 8;
     const uint16_t allowed_q10 = (uint16_t)((allowed.raw + 8191) >> 13);
     if (v < fx::mul_uu(allowed_q10, allowed_q10)) {
       // floor(sqrt(v)) 2^13 >= moving exactly when v >= ceil(moving / 2^13)^2; a moving_q10
