@@ -355,6 +355,17 @@ void track_stepper() {
   rate.set_speed(core::tracking_speed_steps_s(kTracking[kStepper], kStepperMap[kStepper].speed_steps_s(g_qd[j]), error));
 }
 
+// The commanded position over the ticks that passed at once: each step times ticks is the
+// same sum as a tick at a time. Flattened: apply() inlined with its constant Scale shifts by
+// whole bytes (motion_tick called it for two of the three, its shift a loop by a run-time count).
+__attribute__((flatten, noinline)) void integrate_commanded(uint8_t ticks) {
+  constexpr core::Scale kPerTick = core::scale_for(1.0 / kLoopHz);
+  // (a component at rest, most of a mode's, moves nothing: no product)
+  if (g_v_m_s.x.raw != 0) g_p_cmd.x.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.x.raw), ticks);
+  if (g_v_m_s.y.raw != 0) g_p_cmd.y.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.y.raw), ticks);
+  if (g_v_m_s.z.raw != 0) g_p_cmd.z.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.z.raw), ticks);
+}
+
 __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
@@ -371,8 +382,12 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   // both are one most of the time, and so is the factor: core::scaled then needs no product
   const fx::Unit tracking = tracking_factor();
   const fx::Unit factor = g_speed_scale.raw == fx::kUnitOne ? tracking : g_speed_scale * tracking;
-  twist.v_m_s = {core::scaled(factor, twist.v_m_s.x), core::scaled(factor, twist.v_m_s.y), core::scaled(factor, twist.v_m_s.z)};
-  twist.w_rad_s = {core::scaled(factor, twist.w_rad_s.x), core::scaled(factor, twist.w_rad_s.y), core::scaled(factor, twist.w_rad_s.z)};
+  // (tested once here: scaled() tests it again for each of the six)
+  if (factor.raw != fx::kUnitOne) {
+    twist.v_m_s = {core::scaled(factor, twist.v_m_s.x), core::scaled(factor, twist.v_m_s.y), core::scaled(factor, twist.v_m_s.z)};
+    twist.w_rad_s = {core::scaled(factor, twist.w_rad_s.x), core::scaled(factor, twist.w_rad_s.y),
+                     core::scaled(factor, twist.w_rad_s.z)};
+  }
 
   // Drift correction: towards the integrated commanded position. The hand's position (FK,
   // ~1,000 cycles) every kDriftEvery_ticks only: the correction's time constant is
@@ -401,15 +416,16 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
   }
   const fx::Unit k = core::limit_joint_acceleration(g_qd, rates.qd_rad_s, ticks == 1 ? kMaxSpeedChangePerTick : max_change);
-  g_v_m_s.x = g_v_m_s.x + core::scaled(k, core::scaled(rates.scale, v_cmd.x) - g_v_m_s.x);
-  g_v_m_s.y = g_v_m_s.y + core::scaled(k, core::scaled(rates.scale, v_cmd.y) - g_v_m_s.y);
-  g_v_m_s.z = g_v_m_s.z + core::scaled(k, core::scaled(rates.scale, v_cmd.z) - g_v_m_s.z);
-  // the ticks that passed at once: each step times ticks is the same sum as a tick at a time
-  constexpr core::Scale kPerTick = core::scale_for(1.0 / kLoopHz);
-  // (a component at rest, most of a mode's, moves nothing: no product)
-  if (g_v_m_s.x.raw != 0) g_p_cmd.x.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.x.raw), ticks);
-  if (g_v_m_s.y.raw != 0) g_p_cmd.y.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.y.raw), ticks);
-  if (g_v_m_s.z.raw != 0) g_p_cmd.z.raw += core::ticks_times(core::apply(kPerTick, g_v_m_s.z.raw), ticks);
+  // the hand's commanded velocity as far as g_qd has reached it; neither limit slowing it (most
+  // ticks), g + (v - g) is v itself
+  if (k.raw == fx::kUnitOne && rates.scale.raw == fx::kUnitOne) {
+    g_v_m_s = v_cmd;
+  } else {
+    g_v_m_s.x = g_v_m_s.x + core::scaled(k, core::scaled(rates.scale, v_cmd.x) - g_v_m_s.x);
+    g_v_m_s.y = g_v_m_s.y + core::scaled(k, core::scaled(rates.scale, v_cmd.y) - g_v_m_s.y);
+    g_v_m_s.z = g_v_m_s.z + core::scaled(k, core::scaled(rates.scale, v_cmd.z) - g_v_m_s.z);
+  }
+  integrate_commanded(ticks);
   for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(g_qd[j], ticks);
   track_stepper<0>();
   track_stepper<1>();

@@ -58,6 +58,9 @@ struct JointRates {
   uint8_t slowed_by;  // SlowReason bits
 };
 
+// the soft-limit zone, Angle counts: closer to a soft stop, the speed limit falls to 0 at the stop
+constexpr int32_t kSoftLimitZoneCounts = fx::angle_deg(Ratio{config::kSoftLimitZone_deg, 1}).raw;
+
 // one joint's limits, together: the loop over the joints then walks one table (a table per
 // limit kept five pointers, which avr-gcc spilled to the stack)
 struct JointMotionLimits {
@@ -65,7 +68,10 @@ struct JointMotionLimits {
   fx::Angle soft_min;
   fx::Angle soft_max;
   int32_t brake_from;   // Angle counts: closer to a soft stop, braking limits the speed
-  Scale brake_speed_sq;  // the braking speed squared, (2^-10 rad/s)^2, per Angle count
+  int32_t near_from;    // the larger of brake_from and the zone: closer, near_stop_speed (one test)
+  // the braking speed squared, (2^-10 rad/s)^2 per Angle count, Q8 rounded down (the braking
+  // speed at most 3/4 a's): with brake_from < 2^16, v is one 16x16 product and a byte shift
+  uint16_t brake_speed_sq_q8;
 };
 struct MotionLimits {
   JointMotionLimits joint[arm::kJoints];
@@ -80,14 +86,27 @@ constexpr int32_t brake_from_counts(int16_t speed_crad_s, int16_t accel_crad_s2)
   return (int32_t)((speed_crad_s / 100.0) * (speed_crad_s / 100.0) / (1.5 * accel_crad_s2 / 100.0) * kAngleCountsPerRad) + 1;
 }
 
+constexpr int32_t near_from_counts(int32_t brake_from) { return brake_from > kSoftLimitZoneCounts ? brake_from : kSoftLimitZoneCounts; }
+
 constexpr JointMotionLimits joint_motion_limits(uint8_t j) {
   using L = kin::JointLimits<Fixed>;
   return JointMotionLimits{fx::real(Ratio{config::kJointSpeedLimit_crad_s[j], 100}),
                            fx::Angle{L::min[j].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
                            fx::Angle{L::max[j].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
                            brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]),
-                           scale_for(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]))};
+                           near_from_counts(brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j])),
+                           (uint16_t)(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]) * 256.0)};
 }
+// the braking distance and the braking speed's factor in 16 bits for every joint (a scale,
+// ~110 cycles with its shift by a run-time exponent, was what the configuration needed beyond)
+constexpr bool braking_in_16_bits() {
+  for (uint8_t j = 0; j < arm::kJoints; ++j) {
+    if (brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]) >= 65536) return false;
+    if (brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]) * 256.0 >= 65536.0) return false;
+  }
+  return true;
+}
+static_assert(braking_in_16_bits(), "a joint's braking distance (speed^2 / 1.5 a) and 1.5 a per count x 256 fit 16 bits");
 
 constexpr MotionLimits motion_limits() {
   return MotionLimits{{joint_motion_limits(0), joint_motion_limits(1), joint_motion_limits(2), joint_motion_limits(3),
@@ -128,13 +147,16 @@ inline fx::Unit limit_scale(fx::Unit s, fx::Real qd, fx::Real allowed) {
   return fx::Unit{(int16_t)(quotient.raw > 2 ? quotient.raw - 2 : 0)};
 }
 
-// the soft-limit zone, Angle counts: closer to a soft stop, the speed limit falls to 0 at the stop
-constexpr int32_t kSoftLimitZoneCounts = fx::angle_deg(Ratio{config::kSoftLimitZone_deg, 1}).raw;
-
 // Step 3 for a joint moving `distance` counts short of its soft stop, within the zone or the
 // braking distance: its speed limit scaled down. Not inlined: the joint loop, which needs it
 // for a few joints at most, keeps its registers.
-__attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimits& limit, int32_t distance) {
+// The braking speed's square root (~300 cycles) is taken only where it slows the joint. When
+// the joint's speed at the current scale, moving = scaled(s, |qd|) (what
+// limit_scale compares), is at most the braking speed, the zone's speed is returned instead:
+// at least the braking speed, so at least moving. The caller's s and reason are the same as
+// with the braking speed: limit_scale leaves s for any allowed >= moving, and a drive slower
+// than moving is below both (kSlowDriveLoad either way).
+__attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimits& limit, int32_t distance, fx::Unit s, fx::Real qd) {
   static constexpr fx::Real kInvZone = fx::real(Ratio{1, kSoftLimitZoneCounts});  // per angle count
   static_assert(kSoftLimitZoneCounts < 32768 && kInvZone.raw < 32768, "the soft-limit zone's fraction is a 16x16 product");
   fx::Real allowed = limit.speed_rad_s;
@@ -146,9 +168,16 @@ __attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimit
   if (distance < limit.brake_from) {
     // brake = floor(sqrt(v)) 2^13 is below allowed exactly when v < ceil(allowed / 2^13)^2:
     // the square root (~300 cycles) only when it limits
-    const uint32_t v = distance <= 0 ? 0 : (uint32_t)apply(limit.brake_speed_sq, distance);
+    const uint32_t v = distance <= 0 ? 0 : fx::mul_uu((uint16_t)distance, limit.brake_speed_sq_q8) >> 8;
     const uint16_t allowed_q10 = (uint16_t)((allowed.raw + 8191) >> 13);
-    if (v < fx::mul_uu(allowed_q10, allowed_q10)) allowed = fx::Real{(int32_t)fx::isqrt32(v) << 13};
+    if (v < fx::mul_uu(allowed_q10, allowed_q10)) {
+      // floor(sqrt(v)) 2^13 >= moving exactly when v >= ceil(moving / 2^13)^2; a moving_q10
+      // beyond 16 bits is faster than any braking speed (sqrt(v) < 2^16)
+      const uint32_t moving_q10 = ((uint32_t)scaled(s, fx::Real{qd.raw < 0 ? -qd.raw : qd.raw}).raw + 8191) >> 13;
+      if (moving_q10 > 0xFFFFu || v < fx::mul_uu((uint16_t)moving_q10, (uint16_t)moving_q10)) {
+        allowed = fx::Real{(int32_t)fx::isqrt32(v) << 13};
+      }
+    }
   }
   return allowed;
 }
@@ -197,7 +226,9 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
     fx::Real allowed = limit.speed_rad_s;
     if (qd[j].raw != 0) {
       const int32_t distance = qd[j].raw > 0 ? limit.soft_max.raw - q.q[j].raw : q.q[j].raw - limit.soft_min.raw;
-      if (distance < kSoftLimitZoneCounts || distance < limit.brake_from) allowed = near_stop_speed(limit, distance);
+      if (distance < limit.near_from) {
+        allowed = near_stop_speed(limit, distance, s, qd[j]);
+      }
     }
     uint8_t reason = allowed < limit.speed_rad_s ? kSlowSoftLimit : kSlowJointSpeed;
     if (drives) {

@@ -239,10 +239,12 @@ class StepRate {
   }
 
  private:
-  // |speed| steps/s as Q8, within the top speed; below the slowest speed, 0
+  // |speed| steps/s as Q8, within the top speed; below the slowest speed, 0. Below the top
+  // speed it fits 16 bits (v_max^2 < 2^31: step_rate_constants), so the shift by 8 is a byte
+  // move; v_max_q8 is v_max 2^8 exactly.
   int32_t speed_q8(uint32_t speed_steps_s) const {
-    const uint32_t vmax = (uint32_t)k_.v_max_q8 >> 8;
-    const int32_t q8 = (int32_t)((speed_steps_s > vmax ? vmax : speed_steps_s) << 8);
+    if (speed_steps_s >= (uint32_t)k_.v_max_q8 >> 8) return k_.v_max_q8;
+    const int32_t q8 = (int32_t)((uint32_t)(uint16_t)speed_steps_s << 8);
     return q8 < k_.v_min_q8 ? 0 : q8;
   }
 
