@@ -75,12 +75,41 @@ ISR(USART0_RX_vect) {
   uart::g_rx_head = next;
 }
 
-ISR(USART0_UDRE_vect) {
-  const uint8_t tail = uart::g_tx_tail;
-  if (tail == uart::g_tx_head) {
-    UCSR0B &= (uint8_t)~(1 << UDRIE0);
-    return;
-  }
-  UDR0 = uart::g_tx[tail];
-  uart::g_tx_tail = (uint8_t)(tail + 1);
+// One byte out of the ring, or the interrupt off when it is empty. Assembly, three registers
+// saved: in C it saved eight (r0, r1, RAMPZ among them) and took 67 cycles, for every byte of
+// telemetry.
+ISR(USART0_UDRE_vect, ISR_NAKED) {
+  asm volatile(
+      "push r24\n\t"
+      "in   r24, __SREG__\n\t"
+      "push r24\n\t"
+      "push r30\n\t"
+      "push r31\n\t"
+      "lds  r30, %[tail]\n\t"
+      "lds  r24, %[head]\n\t"
+      "cp   r30, r24\n\t"
+      "breq 1f\n\t"
+      "mov  r24, r30\n\t"
+      "ldi  r31, 0\n\t"
+      "subi r30, lo8(-(%[tx]))\n\t"
+      "sbci r31, hi8(-(%[tx]))\n\t"
+      "ld   r31, Z\n\t"
+      "sts  %[udr], r31\n\t"
+      "inc  r24\n\t"  // wraps at 256 with the ring
+      "sts  %[tail], r24\n\t"
+      "rjmp 2f\n"
+      "1:\n\t"
+      "lds  r24, %[ucsrb]\n\t"
+      "andi r24, %[udrie_off]\n\t"
+      "sts  %[ucsrb], r24\n"
+      "2:\n\t"
+      "pop  r31\n\t"
+      "pop  r30\n\t"
+      "pop  r24\n\t"
+      "out  __SREG__, r24\n\t"
+      "pop  r24\n\t"
+      "reti"
+      :
+      : [tail] "i"(&uart::g_tx_tail), [head] "i"(&uart::g_tx_head), [tx] "i"(uart::g_tx), [udr] "n"(_SFR_MEM_ADDR(UDR0)),
+        [ucsrb] "n"(_SFR_MEM_ADDR(UCSR0B)), [udrie_off] "n"((uint8_t) ~(1 << UDRIE0)));
 }

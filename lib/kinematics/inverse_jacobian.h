@@ -83,8 +83,12 @@ typename N::Real determinant(const SingularFactors<N>& f) {
   return -(((f.c5 * f.s3) * a2a3) * N::to_real(f.r5));
 }
 
-template <class N, class Trig>
-JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
+// kTurning = false: the twist has no angular velocity (the translation modes), and the terms
+// of w are left out. Bit-identical to kTurning = true with w = 0: a product of a zero Real is
+// zero, and dot(a, 0, b, y) = b y exactly (fixed_point.h; test_kinematics_fixed checks it,
+// test/sim_kinematics on the AVR). It saves seven of J^-1's eleven fused products.
+template <class N, bool kTurning, class Trig>
+__attribute__((always_inline)) inline JacobianInverse<N> inverse_jacobian_of(const Trig& t, const Twist<N>& twist) {
   static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);
   static constexpr typename N::Band damp_s3 = N::band(arm::kSingularBands.damp_s3);
   static constexpr typename N::Band damp_r5 = N::band(arm::kSingularBands.damp_r5_m);
@@ -103,31 +107,32 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   // the twist in the frame turned by q1 (N::dot(a, x, b, y) is a x + b y)
   const auto& v = twist.v_m_s;
   const auto& w = twist.w_rad_s;
+  const typename N::Real zero{};
   const auto vx = N::dot(t.c1, v.x, t.s1, v.y);
   const auto vy = N::dot(t.c1, v.y, -t.s1, v.x);
-  const auto wx = N::dot(t.c1, w.x, t.s1, w.y);
-  const auto wy = N::dot(t.c1, w.y, -t.s1, w.x);
+  const auto wx = kTurning ? N::dot(t.c1, w.x, t.s1, w.y) : zero;
+  const auto wy = kTurning ? N::dot(t.c1, w.y, -t.s1, w.x) : zero;
 
   // 1. joint-5 origin velocity v5 = v - w x (d6 z6), with d6 z6 = (c234 c5d6, -s5d6, s234 c5d6);
   //    its y component is vy + c5d6 m with m = wx s234 - w.z c234
   const auto c5d6 = t.c5 * d6;
-  const auto m = N::dot(t.s234, wx, -t.c234, w.z);
-  const auto qd1 = (vy + m * c5d6) * N::damped_reciprocal(factors.r5, damp_r5);
+  const auto m = kTurning ? N::dot(t.s234, wx, -t.c234, w.z) : zero;
+  const auto qd1 = (kTurning ? vy + m * c5d6 : vy) * N::damped_reciprocal(factors.r5, damp_r5);
   out.qd_rad_s[0] = qd1;
 
   // 2. wrist: angular velocity less joint 1 (qd5 = wx s234 - wz c234 = m + qd1 c234)
-  const auto wz = w.z - qd1;
-  out.qd_rad_s[4] = m + qd1 * t.c234;
-  const auto qd6 = N::dot(t.c234, wx, t.s234, wz) * N::damped_reciprocal(t.c5, damp_c5);
+  const auto wz = kTurning ? w.z - qd1 : -qd1;
+  out.qd_rad_s[4] = kTurning ? m + qd1 * t.c234 : qd1 * t.c234;
+  const auto qd6 = (kTurning ? N::dot(t.c234, wx, t.s234, wz) : t.s234 * wz) * N::damped_reciprocal(t.c5, damp_c5);
   out.qd_rad_s[5] = qd6;
-  const auto sigma = -wy - qd6 * t.s5;
+  const auto sigma = kTurning ? -wy - qd6 * t.s5 : -(qd6 * t.s5);
 
   // 3. planar shoulder-elbow-pitch chain, with v5x and v5z written out:
   //    bx = w.z s5d6 - vx + s234 g,  bz = v.z + wx s5d6 + c234 g,  g = wy c5d6 - sigma a4
   const auto s5d6 = t.s5 * d6;
-  const auto g = N::dot(c5d6, wy, -a4, sigma);
-  const auto bx = N::dot(s5d6, w.z, t.s234, g) - vx;
-  const auto bz = N::dot(s5d6, wx, t.c234, g) + v.z;
+  const auto g = kTurning ? N::dot(c5d6, wy, -a4, sigma) : -a4 * sigma;
+  const auto bx = (kTurning ? N::dot(s5d6, w.z, t.s234, g) : t.s234 * g) - vx;
+  const auto bz = (kTurning ? N::dot(s5d6, wx, t.c234, g) : t.c234 * g) + v.z;
   const auto inv_s3 = N::damped_reciprocal(t.s3, damp_s3);
   const auto inv_a2s3 = inv_s3 * inv_a2;
   const auto inv_a3s3 = equal_links ? inv_a2s3 : inv_s3 * inv_a3;
@@ -144,11 +149,31 @@ JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   return out;
 }
 
+template <class N>
+bool turning(const Twist<N>& twist) {
+  const auto& w = twist.w_rad_s;
+  return !(N::is_zero(w.x) && N::is_zero(w.y) && N::is_zero(w.z));
+}
+
+template <class N, class Trig>
+JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
+  // if/return, not ?: (which copies the chosen result, a byte loop on the AVR)
+  if (turning(twist)) return inverse_jacobian_of<N, true>(t, twist);
+  return inverse_jacobian_of<N, false>(t, twist);
+}
+
 // flatten: avr-gcc then inlines the trig set into the body before it splits structs into
 // registers, which saves about 250 cycles over an inlined but separately optimised trig set.
+// One flattened body per path: the trig set computed before the choice cost ~100 cycles more.
+template <class N, bool kTurning>
+__attribute__((flatten)) JacobianInverse<N> inverse_jacobian_of_angles(const JointAngles<N>& q, const Twist<N>& twist) {
+  return inverse_jacobian_of<N, kTurning>(jacobian_trig<N>(q), twist);
+}
+
 template <class N>
-__attribute__((flatten)) JacobianInverse<N> inverse_jacobian(const JointAngles<N>& q, const Twist<N>& twist) {
-  return inverse_jacobian<N>(jacobian_trig<N>(q), twist);
+JacobianInverse<N> inverse_jacobian(const JointAngles<N>& q, const Twist<N>& twist) {
+  if (turning(twist)) return inverse_jacobian_of_angles<N, true>(q, twist);
+  return inverse_jacobian_of_angles<N, false>(q, twist);
 }
 
 }  // namespace kin

@@ -71,6 +71,7 @@ struct Floating {
   // 1/x outside the band, x/eps^2 inside it (see fx::damped_reciprocal)
   static Recip damped_reciprocal(Unit x, Band b) { return abs(x) >= b.eps ? (T)1 / x : x / (b.eps * b.eps); }
   static bool inside(Unit x, Band b) { return abs(x) < b.eps; }
+  static bool is_zero(Real x) { return x == 0; }
 };
 
 struct Fixed {
@@ -108,6 +109,7 @@ struct Fixed {
   static Real dot(Unit a, Real x, Unit b, Real y) { return fx::dot(a, x, b, y); }  // one fused product
   static Recip damped_reciprocal(Unit x, Band b) { return fx::damped_reciprocal(x, b); }
   static bool inside(Unit x, Band b) { return (x.raw < 0 ? -x.raw : x.raw) < b.eps.raw; }
+  static bool is_zero(Real x) { return x.raw == 0; }
 };
 
 }  // namespace kin

@@ -45,7 +45,8 @@ inline kin::Twist<Fixed> random_twist(Lcg& rng) {
 }
 
 // One line per case: "F" pose (p as 3 x 8 hex digits, R as 9 x 4),
-// "J" joint velocities (6 x 8), det (8) and status (1), and "I" the inverse kinematics of
+// "J" joint velocities (6 x 8), det (8) and status (1), "T" the joint velocities of the twist
+// without its angular velocity (6 x 8), and "I" the inverse kinematics of
 // that pose: status (1), count (1) and each solution's angles (6 x 8). put(char) is the sink.
 template <class Put>
 void hex(Put& put, uint32_t v, uint8_t digits) {
@@ -71,6 +72,12 @@ void emit_case(Put& put, const kin::JointAngles<Fixed>& q, const kin::Twist<Fixe
   for (int i = 0; i < arm::kJoints; ++i) hex(put, (uint32_t)inv.qd_rad_s[i].raw, 8);
   hex(put, (uint32_t)kin::determinant<Fixed>(inv.factors).raw, 8);
   put((char)('0' + (int)inv.status));
+  // the same without angular velocity: J^-1's translation path (inverse_jacobian_of<.., false>)
+  kin::Twist<Fixed> translation = twist;
+  translation.w_rad_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
+  const auto inv_v = kin::inverse_jacobian<Fixed>(trig, translation);
+  put('T');
+  for (int i = 0; i < arm::kJoints; ++i) hex(put, (uint32_t)inv_v.qd_rad_s[i].raw, 8);
   put(' ');
   const auto ik = kin::inverse_kinematics<Fixed>(pose);
   put('I');
