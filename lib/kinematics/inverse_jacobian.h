@@ -88,7 +88,7 @@ typename N::Real determinant(const SingularFactors<N>& f) {
 // zero, and dot(a, 0, b, y) = b y exactly (fixed_point.h; test_kinematics_fixed checks it,
 // test/sim_kinematics on the AVR). It saves seven of J^-1's eleven fused products.
 template <class N, bool kTurning, class Trig>
-__attribute__((always_inline)) inline JacobianInverse<N> inverse_jacobian_of(const Trig& t, const Twist<N>& twist) {
+JacobianInverse<N> inverse_jacobian_of(const Trig& t, const Twist<N>& twist) {
   static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);
   static constexpr typename N::Band damp_s3 = N::band(arm::kSingularBands.damp_s3);
   static constexpr typename N::Band damp_r5 = N::band(arm::kSingularBands.damp_r5_m);
@@ -155,11 +155,19 @@ bool turning(const Twist<N>& twist) {
   return !(N::is_zero(w.x) && N::is_zero(w.y) && N::is_zero(w.z));
 }
 
+// Each path a function of its own, flattened: both inlined into one, avr-gcc allocated the
+// turning path's registers worse, and unflattened it left the products out of line where
+// they have many callers (the kinematics bench: ~300 and ~500 cycles more on the AVR).
+template <class N, bool kTurning, class Trig>
+__attribute__((noinline, flatten)) JacobianInverse<N> inverse_jacobian_path(const Trig& t, const Twist<N>& twist) {
+  return inverse_jacobian_of<N, kTurning>(t, twist);
+}
+
 template <class N, class Trig>
 JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   // if/return, not ?: (which copies the chosen result, a byte loop on the AVR)
-  if (turning(twist)) return inverse_jacobian_of<N, true>(t, twist);
-  return inverse_jacobian_of<N, false>(t, twist);
+  if (!turning(twist)) return inverse_jacobian_path<N, false>(t, twist);
+  return inverse_jacobian_path<N, true>(t, twist);
 }
 
 // flatten: avr-gcc then inlines the trig set into the body before it splits structs into
