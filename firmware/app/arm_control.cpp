@@ -643,7 +643,7 @@ void stop_from_interrupt() {
 
 void iterate(Requests& rq, uint8_t ticks) {
   // --- inputs
-  uint16_t adc[sizeof kAdcOrder];
+  uint16_t adc[adc::kMaxChannels];
   adc::snapshot(adc);
   const uint16_t switches = inputs::closed_switches();
   const bool safety = inputs::take_safety_event() | inputs::safety_pressed();

@@ -8,7 +8,7 @@ namespace adc {
 
 namespace {
 // Aligned so that the ISR indexes them with an 8-bit add (no carry into the high byte)
-static_assert(kMaxChannels == 8, "the alignments below");
+static_assert(kMaxChannels == 8, "the alignments below and snapshot's copy");
 uint8_t g_admux[kMaxChannels] __attribute__((aligned(8)));  // ADMUX of each channel: AVcc reference, channel
 uint8_t g_count;
 volatile uint8_t g_index;  // the channel being converted; g_count: the sweep is done
@@ -34,7 +34,15 @@ void start(const uint8_t* channels, uint8_t count) {
 void snapshot(uint16_t* counts) {
   const uint8_t s = SREG;
   cli();
-  for (uint8_t i = 0; i < g_count; ++i) counts[i] = g_counts[i];
+  // every slot, unrolled: the loop over g_count took ~160 cycles, these 32 moves 64
+  counts[0] = g_counts[0];
+  counts[1] = g_counts[1];
+  counts[2] = g_counts[2];
+  counts[3] = g_counts[3];
+  counts[4] = g_counts[4];
+  counts[5] = g_counts[5];
+  counts[6] = g_counts[6];
+  counts[7] = g_counts[7];
   if (g_index >= g_count) start_sweep();
   SREG = s;
 }

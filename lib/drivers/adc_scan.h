@@ -17,8 +17,9 @@ constexpr uint8_t kMaxChannels = 8;
 // channels: ADC0..7 numbers, converted in this order; results are read by index in the same
 // order. Starts the first sweep.
 void start(const uint8_t* channels, uint8_t count);
-// copies the latest result of every channel (10-bit counts), atomically, and starts the next
-// sweep (unless the last one is still converting: it goes on, and its results come next)
+// copies the latest result of every channel (10-bit counts) into counts[0..kMaxChannels)
+// (slots past the channels given to start() are 0), atomically, and starts the next sweep
+// (unless the last one is still converting: it goes on, and its results come next)
 void snapshot(uint16_t* counts);
 
 }  // namespace adc
