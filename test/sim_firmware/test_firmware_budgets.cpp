@@ -35,8 +35,8 @@ const std::map<std::string, uint64_t> kIsrBudget_cycles = {
     {"ADC", 80},               // [68] one conversion stored, the next channel started (assembly)
     {"INT4", 720},             // [611] safety button: every output off (unrolled at -O3)
     {"PCINT0", 220},           // [181] limit switches: read, latch, stop hook
-    {"TIMER1_COMPA", 100},     // [83] the 1 kHz tick
-    {"TIMER1_COMPC", 90},      // [74] the servo pulse edge
+    {"TIMER1_COMPA", 100},     // [85] the 1 kHz tick and the stall mark
+    {"TIMER1_COMPC", 90},      // [81] the servo pulse edge
     {"TIMER5_COMPA", 90},      // [82] a step edge: count, next edge, stop on the count
     {"TIMER5_COMPB", 90},      // (assembly, lib/drivers/steppers.cpp; the ramps run in the
     {"TIMER5_COMPC", 90},      //  main loop): 60,000 a second at 3 x 20 kHz
