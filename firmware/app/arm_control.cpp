@@ -493,6 +493,12 @@ WMRA_SMALL void update_holding() {
                     kJointSpeedLimit_crad_s[kDcJoint[1]] <= kDcFullDutySpeed_crad_s[1] &&
                     kJointSpeedLimit_crad_s[kDcJoint[2]] <= kDcFullDutySpeed_crad_s[2],
                 "a DC joint's speed limit within what its drive reaches at full duty");
+  // the relay's fixed duty is not governed: it must not drive a joint past its speed limit
+  // (at 600 permille J3 would turn at about 2 rad/s against 1.0)
+  static_assert(!kDcUseRelay || (kRelayDuty_permille <= kDcMinDuty_permille + (int32_t)kDutySlope_permille * kLimitDuty_q15[0] / 32767 &&
+                                 kRelayDuty_permille <= kDcMinDuty_permille + (int32_t)kDutySlope_permille * kLimitDuty_q15[1] / 32767 &&
+                                 kRelayDuty_permille <= kDcMinDuty_permille + (int32_t)kDutySlope_permille * kLimitDuty_q15[2] / 32767),
+                "the relay's duty within every DC joint's speed limit");
   for (uint8_t d = 0; d < 3; ++d) {
     const int16_t h = g_holding.duty_q15[d];
     g_holding_effort_q15[d] = effort_for_duty(h);
@@ -754,9 +760,14 @@ void set_speed_scale(uint8_t percent) {
   g_speed_scale = fx::Unit{(int16_t)((int32_t)(percent > 100 ? 100 : percent) * fx::kUnitOne / 100)};
 }
 
-bool store_pose(uint8_t slot) {
+WMRA_COLD bool store_pose(uint8_t slot) {
   if (slot >= kPoseSlots || g_supervisor.state() != core::ArmState::running) return false;
-  for (uint8_t j = 0; j < 6; ++j) g_settings->pose_angle[slot][j] = g_q[j].angle.raw;
+  // within the soft stops: a DC joint's reference is where it stood (drives_on), up to a park
+  // band past a stop, and load_settings drops a pose beyond one
+  for (uint8_t j = 0; j < 6; ++j) {
+    const int32_t a = g_q[j].angle.raw, lo = kLimits.joint[j].soft_min.raw, hi = kLimits.joint[j].soft_max.raw;
+    g_settings->pose_angle[slot][j] = a < lo ? lo : a > hi ? hi : a;
+  }
   g_settings->pose_valid |= (uint8_t)(1 << slot);
   save_settings(*g_settings);
   return true;

@@ -3,8 +3,7 @@
 #include <stddef.h>
 
 #include "config/joints_config.h"
-#include "config/motion_config.h"
-#include "kinematics/arm_model.h"
+#include "core/resolved_rate.h"
 #include "kinematics/fixed_trig.h"
 #include "kinematics/flash.h"
 
@@ -50,22 +49,23 @@ void set_defaults(Settings& s) {
   apply_config_calibration(s);
 }
 
-// The soft stops (a joint stops this far inside its switch), Angle counts; in flash (48 bytes of RAM otherwise)
+// The soft stops (a joint stops this far inside its switch), Angle counts, the control loop's
+// (core::joint_motion_limits); in flash (48 bytes of RAM otherwise)
 struct SoftStops {
   int32_t min[6], max[6];
 };
 constexpr SoftStops soft_stops() {
   SoftStops stops{};
   for (uint8_t j = 0; j < 6; ++j) {
-    stops.min[j] = fx::angle_deg(Ratio{(int16_t)(arm::q_min_deg[j] + kSoftLimitMargin_deg), 1}).raw;
-    stops.max[j] = fx::angle_deg(Ratio{(int16_t)(arm::q_max_deg[j] - kSoftLimitMargin_deg), 1}).raw;
+    stops.min[j] = core::joint_motion_limits(j).soft_min.raw;
+    stops.max[j] = core::joint_motion_limits(j).soft_max.raw;
   }
   return stops;
 }
 constexpr SoftStops kSoftStops WMRA_FLASH = soft_stops();
 
-// A stored pose beyond a soft stop (a block with a valid CRC that no store_pose wrote: another
-// firmware's layout, an edited config's narrower limits) is dropped: a move to it would drive
+// A stored pose beyond a soft stop (store_pose clamps to them: a block with a valid CRC that
+// this firmware did not write, an edited config's narrower limits) is dropped: a move to it would drive
 // a joint past its soft stop towards the switch. The ready pose falls back to the config's.
 void drop_poses_beyond_the_soft_stops(Settings& s) {
   for (uint8_t slot = 0; slot < kPoseSlots; ++slot) {

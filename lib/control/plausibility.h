@@ -1,7 +1,8 @@
 // Plausibility checks on a DC joint, which the firmware turns into faults (SPEC 6): fed once
 // per sample with the duty it applied and the position it read, it raises latched flags for
-//   stall       the drive is at or above drive_threshold (saturated) for stall_samples and the
-//               joint has not moved stall_progress units forward in that window;
+//   stall       the drive is at or above drive_threshold (saturated; or at the caller's bound
+//               below it, set_drive_bounds) for stall_samples and the joint has not moved
+//               stall_progress units forward in that window;
 //   sign_error  under that drive the joint moves against it by sign_distance units (measured
 //               from the furthest point it reached forward), after a grace period that lets
 //               it coast out of its previous motion when the drive reverses;
@@ -56,12 +57,21 @@ class PlausibilityMonitor {
     const PlausibilityStatus s = plausibility_check(c);
     if (s != PlausibilityStatus::ok) return s;
     c_ = c;
+    up_q15_ = down_q15_ = c.drive_threshold_q15;
     configured_ = true;
     reset(0);
     return s;
   }
 
   // Clears the flags; position is the present reading.
+  // The drive's saturation as the caller bounds it now, each way (magnitudes): a drive held
+  // below drive_threshold (a speed governor) is saturated at its bound, and a joint that does
+  // not move under it is stalled. Lowers a threshold only (to at least 1).
+  void set_drive_bounds(int16_t up_q15, int16_t down_q15) {
+    up_q15_ = lowered(up_q15);
+    down_q15_ = lowered(down_q15);
+  }
+
   void reset(int16_t position) {
     faults_ = 0;
     prev_ = position;
@@ -96,7 +106,7 @@ class PlausibilityMonitor {
     prev_ = position;
     have_prev_ = true;
 
-    const int8_t dir = duty_q15 >= c_.drive_threshold_q15 ? 1 : duty_q15 <= -c_.drive_threshold_q15 ? -1 : 0;
+    const int8_t dir = duty_q15 >= up_q15_ ? 1 : duty_q15 <= -down_q15_ ? -1 : 0;
     if (dir == 0) {
       drive_dir_ = 0;
       return faults_;
@@ -142,6 +152,12 @@ class PlausibilityMonitor {
   }
 
   PlausibilityConfig c_{1, 1, 1, 0, 1, 1, 0, 1, 1};
+  // drive_threshold_q15 each way, or below it the caller's bound (set_drive_bounds)
+  int16_t up_q15_ = 1, down_q15_ = 1;
+  int16_t lowered(int16_t bound_q15) const {
+    const int16_t t = bound_q15 < 1 ? (int16_t)1 : bound_q15;
+    return t < c_.drive_threshold_q15 ? t : c_.drive_threshold_q15;
+  }
   bool configured_ = false;
   uint8_t faults_ = 0;
   int16_t prev_ = 0;

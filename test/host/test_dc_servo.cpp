@@ -71,6 +71,32 @@ TEST(DcServo, AStandingReferenceAheadGetsTheHoldingEffort) {
   }
 }
 
+// A jammed joint under a speed bound: the servo's effort is held at the bound (well below the
+// stall check's 95 %), yet the checks raise a stall: the drive at its bound is saturated. (Before,
+// the bound hid every stall: J3 sat at 39 % duty against a jammed joint, no fault.)
+TEST(DcServo, AJammedJointUnderASpeedBoundStalls) {
+  const core::DcServoConfig c = config();
+  core::DcServo servo;
+  ASSERT_TRUE(servo.configure(c));
+  servo.set_effort_bounds(10340, 10340);  // J3's bound: its 1 rad/s of 3.56 at full duty, no load
+  const int16_t at = 5000 * kUnitsPerCount / 16;
+  servo.rest(at);
+  servo.reset_checks(at);
+  uint8_t faults = 0;
+  int16_t largest = 0;
+  int stalled_at = -1;
+  for (int k = 0; k < 1000 && stalled_at < 0; ++k) {
+    faults = servo.check(at);
+    if (faults & control::kFaultStall) stalled_at = k;
+    const int16_t duty = servo.update((int16_t)(at + 200), at, 2000);  // a moving reference ahead
+    largest = duty > largest ? duty : largest;
+  }
+  EXPECT_LT(largest, c.checks.drive_threshold_q15) << "the bound kept the duty below the stall threshold";
+  EXPECT_GE(stalled_at, c.checks.stall_samples);
+  EXPECT_LE(stalled_at, c.checks.stall_samples + 100) << "ms to the stall fault";
+  EXPECT_FALSE(faults & control::kFaultSignError);
+}
+
 // lowering needs no holding effort (the worm takes the load): a standing reference below gets
 // none: it ends at the reference, not held above it
 TEST(DcServo, AStandingReferenceBelowGetsNoHoldingEffort) {

@@ -156,6 +156,46 @@ TEST(Pid, OutputRateLimit) {
   }
 }
 
+// The effort's bounds (a speed governor): the effort stays within them, the integral does not
+// wind up behind them, and a bound that falls below the effort takes it down at the rate limit.
+TEST(Pid, EffortBoundsHoldTheEffortWithoutJumpOrWindup) {
+  PidConfig c = config();
+  c.rate_q15 = 300;
+  Pid pid;
+  ASSERT_EQ(pid.configure(c), PidStatus::ok);
+  pid.set_effort_bounds(9000, 6000);
+  Joint j;
+  j.blocked = true;  // 2 s against a blocked joint, 200 counts short
+  pid.start(j.reading(), j.reading(), 0);
+  for (int k = 0; k < 2 * kRateHz; ++k) {
+    pid.update(j.reading() + 200 * kUnits, j.reading());
+    EXPECT_LE(pid.effort_q15(), 9000);
+  }
+  EXPECT_EQ(pid.effort_q15(), 9000);
+  EXPECT_LE(pid.integral_q23(), 9000 * 256) << "held at the bound, not wound up to full output";
+  // the bound falls below the effort: down at the rate limit, no step
+  pid.set_effort_bounds(2000, 6000);
+  int16_t prev = pid.effort_q15();
+  for (int k = 0; k < 100; ++k) {
+    pid.update(j.reading() + 200 * kUnits, j.reading());
+    EXPECT_LE(prev - pid.effort_q15(), 300) << k;
+    EXPECT_LE(pid.effort_q15(), prev);
+    prev = pid.effort_q15();
+  }
+  EXPECT_EQ(pid.effort_q15(), 2000);
+  // the error turns: the effort leaves the bound at once (the rate limit's pace) and is bounded
+  // by the other side's 6000
+  for (int k = 0; k < kRateHz; ++k) {
+    pid.update(j.reading() - 200 * kUnits, j.reading());
+    EXPECT_GE(pid.effort_q15(), -6000);
+  }
+  EXPECT_EQ(pid.effort_q15(), -6000);
+  // bounds past out_max are out_max
+  pid.set_effort_bounds(32767, 32767);
+  for (int k = 0; k < kRateHz; ++k) pid.update(j.reading() - 200 * kUnits, j.reading());
+  EXPECT_EQ(pid.effort_q15(), -c.out_max_q15);
+}
+
 // A joint that does not move below 12 % duty: without compensation the loop stops short of the
 // setpoint (P alone cannot reach the stiction duty); with min_duty it gets there
 TEST(Pid, StictionCompensation) {
