@@ -7,6 +7,7 @@
 
 #include "config/joints_config.h"
 #include "core/joint_map.h"
+#include "core/resolved_rate.h"
 #include "firmware_rig.h"
 #include "kinematics/arm_model.h"
 #include "plant/arm_plant_config.h"
@@ -235,16 +236,19 @@ TEST(FirmwareCalibration, VersionOneSettingsKeepTheirPoses) {
 }
 
 // A block with a valid CRC whose poses lie beyond the soft stops (no store_pose wrote them):
-// the block is kept, its ready pose falls back to the config's and a stored one is refused.
+// the block is kept, its ready pose falls back to the config's, a stored pose one Angle count past
+// a soft stop is refused, and one exactly at the stop is kept.
 TEST(FirmwareCalibration, PosesBeyondTheSoftStopsAreDropped) {
   Rig rig(kFirmware);
   app::Settings settings{};  // no joint calibrated by a person: joints_config.h's calibration
   const double ready_deg[6] = {70, 20, -70, 50, -30, 0};
-  const double beyond_deg[6] = {70, 20, -70, 50, 88.5, 0};  // J5 1.5 deg inside its 90 deg switch
   for (int slot = 0; slot < 4; ++slot)
-    for (int j = 0; j < 6; ++j)
-      settings.pose_angle[slot][j] = (int32_t)std::llround((slot <= 1 ? beyond_deg : ready_deg)[j] * M_PI / 180 * core::kAngleCountsPerRad);
-  settings.pose_valid = 0x03;
+    for (int j = 0; j < 6; ++j) settings.pose_angle[slot][j] = (int32_t)std::llround(ready_deg[j] * M_PI / 180 * core::kAngleCountsPerRad);
+  const int32_t j5_stop = core::joint_motion_limits(4).soft_max.raw;  // 3 deg inside J5's +90 deg switch
+  settings.pose_angle[0][4] = (int32_t)std::llround(88.5 * M_PI / 180 * core::kAngleCountsPerRad);
+  settings.pose_angle[1][4] = j5_stop + 1;
+  settings.pose_angle[2][4] = j5_stop;
+  settings.pose_valid = 0x07;
   rig.sim.set_eeprom(test::settings_block(settings));
 
   const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
@@ -256,6 +260,11 @@ TEST(FirmwareCalibration, PosesBeyondTheSoftStopsAreDropped) {
   ASSERT_EQ(rig.telemetry.replies().size(), 1u);
   EXPECT_EQ(rig.telemetry.replies()[0].status, (uint8_t)protocol::ReplyStatus::refused) << "slot 1 dropped";
   EXPECT_NEAR(rig.sim.q()[4] * 180 / M_PI, ready_deg[4], 1.5) << "J5 did not move";
+  rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 2, {2}));
+  rig.run_to(t_running + 5.0);  // 117 deg at half of J5's 1.5 rad/s
+  ASSERT_EQ(rig.telemetry.replies().size(), 2u);
+  EXPECT_EQ(rig.telemetry.replies()[1].status, (uint8_t)protocol::ReplyStatus::ok) << "slot 2, at the stop, kept";
+  EXPECT_NEAR(rig.sim.q()[4] * 180 / M_PI, 87.0, 0.5) << "J5 at its soft stop";
 }
 
 }  // namespace
