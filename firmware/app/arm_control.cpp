@@ -141,6 +141,8 @@ control::Button g_button;
 core::DcServo g_servo[3];
 core::PotMap g_pot[3];
 int16_t g_dc_units[3];  // measured, ADC counts x 16 (< 16,368)
+uint8_t g_dc_slot;         // this iteration's slot of the DC servos' period (config::kDcServoSlot)
+uint8_t g_dc_elapsed[3];   // control ticks since each DC servo last ran
 fx::Real g_dc_qd_prev[3];  // the DC references' speeds of the last dc_tick (their acceleration)
 int16_t g_dc_reference_units[3];  // the references in pot units, as the last dc_tick drove them (PotMap::units)
 int32_t g_lag_slow_units[3], g_lag_stop_units[3];
@@ -472,6 +474,9 @@ WMRA_COLD void enter(core::ArmState state) {
 // the load and with it the drives' speeds change with the pose, slowly: at a joint's top speed
 // the pose moves 16 mrad between updates
 constexpr uint8_t kHoldingPeriod_ticks = 8;
+// in the slot with the fewest servos: the ticks' lengths even out
+constexpr uint8_t kHoldingSlot = kDcServoPeriod_ticks - 1;
+static_assert(kHoldingPeriod_ticks % kDcServoPeriod_ticks == 0, "the holding effort's period is whole servo periods");
 
 WMRA_SMALL void update_holding() {
   kin::JointAngles<Fixed> q;
@@ -524,12 +529,15 @@ static_assert(kMaxDcChange < 32768, "a DC reference's change of speed in one tic
 constexpr uint8_t kOverrunTicks = 8;  // past this many a call is one (the term is bounded below)
 constexpr int16_t kOneOverTicks[kOverrunTicks + 1] = {0, 32767, 16384, 10923, 8192, 6554, 5461, 4681, 4096};
 
-void dc_tick(uint8_t ticks) {
-  if (g_holding_ticks_left-- == 0) {
-    g_holding_ticks_left = kHoldingPeriod_ticks - 1;
+// The DC servos of this iteration's slot, each over the ticks since it last ran.
+void dc_tick(uint8_t slot) {
+  if (slot == kHoldingSlot && g_holding_ticks_left-- == 0) {
+    g_holding_ticks_left = kHoldingPeriod_ticks / kDcServoPeriod_ticks - 1;
     update_holding();
   }
   for (uint8_t d = 0; d < 3; ++d) {
+    if (kDcServoSlot[d] != slot) continue;
+    const uint8_t ticks = g_dc_elapsed[d];
     const int16_t reference = g_pot[d].units(g_q[kDcJoint[d]].angle);
     g_dc_reference_units[d] = reference;
     const int16_t lag = (int16_t)(reference - g_dc_units[d]);  // [-16384 - 16368, 16383]
@@ -538,10 +546,9 @@ void dc_tick(uint8_t ticks) {
     // no effort of a motion, the servo parks and follows it a count at a time
     const fx::Real qd_raw = g_qd[kDcJoint[d]];
     const fx::Real qd = qd_raw.raw < kStandingSpeed && qd_raw.raw > -kStandingSpeed ? fx::Real{0} : qd_raw;
-    // the change per tick: an overrun call spans `ticks` of them (a halved term on every
-    // two-tick call otherwise, one in five at 830 Hz). Past two ticks (after the longest
-    // iterations, which a 32-bit division would lengthen further) a product by 1/ticks; a
-    // quarter instead moved S1's line by 0.6 mm.
+    // the change per tick: a servo's run spans `ticks` of them (its period, more after an
+    // overrun). Past two ticks (after the longest iterations, which a 32-bit division would
+    // lengthen further) a product by 1/ticks; a quarter instead moved S1's line by 0.6 mm.
     int32_t change = qd.raw - g_dc_qd_prev[d].raw;
     if (ticks == 2) change >>= 1;
     else if (ticks > 2) change = (fx::Unit{kOneOverTicks[ticks < kOverrunTicks ? ticks : kOverrunTicks]} * fx::Real{change}).raw;
@@ -659,12 +666,17 @@ void iterate(Requests& rq, uint8_t ticks) {
   const control::JoystickOutput stick = g_stick.update(adc[kAdcStickX], adc[kAdcStickY], ticks);
   const control::ButtonEvent button = g_button.update(inputs::joystick_button_down(), g_ms);
 
-  // --- checks
+  // --- checks: each DC joint's in its servo's slot, over the ticks since its last (the duty it
+  // applied all that time). The slots advance by iteration: after an overrun no servo is skipped.
+  const uint8_t slot = g_dc_slot;
+  g_dc_slot = (uint8_t)(slot + 1 == kDcServoPeriod_ticks ? 0 : slot + 1);
   for (uint8_t d = 0; d < 3; ++d) {
     // a 16-bit product (10-bit counts x 16): a 32-bit one is a shift loop
     static_assert(1023 * kPositionUnitsPerCount < 32768, "pot units of a 10-bit reading fit 16 bits");
     g_dc_units[d] = (int16_t)(adc[kAdcPot + d] * kPositionUnitsPerCount);
-    const uint8_t flags = g_servo[d].check(g_dc_units[d], ticks);
+    g_dc_elapsed[d] = (uint8_t)(g_dc_elapsed[d] > 255 - ticks ? 255 : g_dc_elapsed[d] + ticks);
+    if (kDcServoSlot[d] != slot) continue;
+    const uint8_t flags = g_servo[d].check(g_dc_units[d], g_dc_elapsed[d]);
     if (flags) g_faults |= core::dc_joint_faults(d, flags);  // a 32-bit shift by a run-time count is a loop
   }
   if (inputs::take_switch_event()) g_faults |= core::fault_mask(core::kFaultBitLimitUnexpected);
@@ -728,7 +740,9 @@ void iterate(Requests& rq, uint8_t ticks) {
     default:
       break;
   }
-  if (g_supervisor.drives_enabled()) dc_tick(ticks);
+  if (g_supervisor.drives_enabled()) dc_tick(slot);
+  for (uint8_t d = 0; d < 3; ++d)
+    if (kDcServoSlot[d] == slot) g_dc_elapsed[d] = 0;
 
   rq.stop = rq.rearm = rq.home = false;
   rq.goto_slot = -1;
