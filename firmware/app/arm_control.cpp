@@ -141,8 +141,9 @@ control::Button g_button;
 core::DcServo g_servo[3];
 core::PotMap g_pot[3];
 int16_t g_dc_units[3];  // measured, ADC counts x 16 (< 16,368)
-uint8_t g_dc_slot;         // this iteration's slot of the DC servos' period (config::kDcServoSlot)
+uint8_t g_slot;            // this iteration's slot of the drives' period (config::kDcServoSlot, kStepperRampSlot)
 uint8_t g_dc_elapsed[3];   // control ticks since each DC servo last ran
+uint8_t g_ramp_elapsed;    // and since the stepper ramps last ran
 fx::Real g_dc_qd_prev[3];  // the DC references' speeds of the last dc_tick (their acceleration)
 int16_t g_dc_reference_units[3];  // the references in pot units, as the last dc_tick drove them (PotMap::units)
 int32_t g_lag_slow_units[3], g_lag_stop_units[3];
@@ -429,9 +430,11 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   }
   integrate_commanded(ticks);
   for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(g_qd[j], ticks);
-  track_stepper<0>();
-  track_stepper<1>();
-  track_stepper<2>();
+  if (g_slot == kStepperRampSlot) {  // the ramps run in this slot
+    track_stepper<0>();
+    track_stepper<1>();
+    track_stepper<2>();
+  }
 }
 
 // Every joint's reference where the joint is: a DC joint that arrived within
@@ -475,8 +478,8 @@ WMRA_COLD void enter(core::ArmState state) {
 // the pose moves 16 mrad between updates
 constexpr uint8_t kHoldingPeriod_ticks = 8;
 // in the slot with the fewest servos: the ticks' lengths even out
-constexpr uint8_t kHoldingSlot = kDcServoPeriod_ticks - 1;
-static_assert(kHoldingPeriod_ticks % kDcServoPeriod_ticks == 0, "the holding effort's period is whole servo periods");
+constexpr uint8_t kHoldingSlot = kDrivePeriod_ticks - 1;
+static_assert(kHoldingPeriod_ticks % kDrivePeriod_ticks == 0, "the holding effort's period is whole servo periods");
 
 WMRA_SMALL void update_holding() {
   kin::JointAngles<Fixed> q;
@@ -532,7 +535,7 @@ constexpr int16_t kOneOverTicks[kOverrunTicks + 1] = {0, 32767, 16384, 10923, 81
 // The DC servos of this iteration's slot, each over the ticks since it last ran.
 void dc_tick(uint8_t slot) {
   if (slot == kHoldingSlot && g_holding_ticks_left-- == 0) {
-    g_holding_ticks_left = kHoldingPeriod_ticks / kDcServoPeriod_ticks - 1;
+    g_holding_ticks_left = kHoldingPeriod_ticks / kDrivePeriod_ticks - 1;
     update_holding();
   }
   for (uint8_t d = 0; d < 3; ++d) {
@@ -668,8 +671,7 @@ void iterate(Requests& rq, uint8_t ticks) {
 
   // --- checks: each DC joint's in its servo's slot, over the ticks since its last (the duty it
   // applied all that time). The slots advance by iteration: after an overrun no servo is skipped.
-  const uint8_t slot = g_dc_slot;
-  g_dc_slot = (uint8_t)(slot + 1 == kDcServoPeriod_ticks ? 0 : slot + 1);
+  const uint8_t slot = g_slot = (uint8_t)(g_slot + 1 == kDrivePeriod_ticks ? 0 : g_slot + 1);
   for (uint8_t d = 0; d < 3; ++d) {
     // a 16-bit product (10-bit counts x 16): a 32-bit one is a shift loop
     static_assert(1023 * kPositionUnitsPerCount < 32768, "pot units of a 10-bit reading fit 16 bits");
@@ -743,6 +745,16 @@ void iterate(Requests& rq, uint8_t ticks) {
   if (g_supervisor.drives_enabled()) dc_tick(slot);
   for (uint8_t d = 0; d < 3; ++d)
     if (kDcServoSlot[d] == slot) g_dc_elapsed[d] = 0;
+  // the steppers' ramps with this iteration's commands: while running in their slot, the steps
+  // made counted every tick (the positions the loop reads are a tick old at most); homing and
+  // the moves to a pose every tick (their sequences read the ramps' state a tick after a command)
+  g_ramp_elapsed = (uint8_t)(g_ramp_elapsed > 255 - ticks ? 255 : g_ramp_elapsed + ticks);
+  if (slot == kStepperRampSlot || state != core::ArmState::running || g_moving) {
+    steppers::service(g_ramp_elapsed);
+    g_ramp_elapsed = 0;
+  } else {
+    steppers::count();
+  }
 
   rq.stop = rq.rearm = rq.home = false;
   rq.goto_slot = -1;

@@ -2,8 +2,8 @@
 //
 // Start-up: every output is made safe before anything else (drivers disabled, bridges low),
 // then the watchdog, the settings from EEPROM, the peripherals, and a boot frame with the
-// reset cause. Then, every 1 ms: one control iteration and the steppers' ramps (steppers::service)
-// with the timing probe (D49) high,
+// reset cause. Then, every 1 ms: one control iteration (its drives' loops included) with the
+// timing probe (D49) high,
 // the watchdog kicked, the serial link served and one EEPROM byte written if one is pending;
 // between ticks the CPU sleeps (idle), which is what the simulator counts as free time.
 #include <avr/interrupt.h>
@@ -46,7 +46,6 @@ int main() {
     const uint16_t begin = TCNT1;
     pins::write(board::kTimingProbe, true);
     app::iterate(requests, ticks);
-    steppers::service(ticks);  // the iteration's stepper commands, into the step ISRs
     pins::write(board::kTimingProbe, false);
     const uint16_t counts = (uint16_t)(TCNT1 - begin);  // Timer1 counts at 2 MHz: 8 CPU cycles a count
     watchdog::kick();

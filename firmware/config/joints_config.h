@@ -67,16 +67,18 @@ constexpr int16_t kPositionUnitsPerCount = 16;
 constexpr Ratio kDcKp[3] = {{5527, 100000}, {8799, 100000}, {7020, 100000}};
 constexpr Ratio kDcKi_per_s[3] = {{12754, 100000}, {24367, 100000}, {25922, 100000}};
 constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}};
-// The DC servos (check, feedforward, PID) run every second control tick, J2 and J4 in one,
-// J3 in the other: 500 Hz each, twice seed 1's 188 Hz that removed its relay's oscillation
-// and some 20 times the joints' bandwidth. The loop's time per tick is 1,600 cycles less. The
-// gains stay per tick: each servo's PID takes the ticks since its last run as its samples.
-// Measured in S1 and S2 at their four stick timings (test_motion_scenarios): 500 Hz on a
-// regular beat follows the lines better than every tick on a loop that overran one call in
-// five (S1 4.18-4.36 mm off its axis against 4.35-4.54, S2 1.68-1.81 against 1.91-1.98); every
-// third tick did worse (S1 to 5.3 mm: the worm's stick-slip grows with the period).
-constexpr uint8_t kDcServoPeriod_ticks = 2;
+// The drives' loops run every second control tick, in two slots: the DC servos (check,
+// feedforward, PID) of J2 and J4 in one, J3's and the stepper ramps in the other (the ticks'
+// lengths even out). 500 Hz each: twice seed 1's 188 Hz that removed its relay's oscillation,
+// some 20 times the DC joints' bandwidth, and the steppers' ramps move their speed in steps of
+// 2 ms of acceleration. The gains and ramps stay per tick: each loop takes the ticks since its
+// last run. Measured in S1 and S2 at their four stick timings (test_motion_scenarios): the DC
+// servos at 500 Hz on a regular beat follow the lines as well as every tick on a loop that
+// overran one call in five; every third tick did worse (S1 to 5.3 mm: the worm's stick-slip
+// grows with the period).
+constexpr uint8_t kDrivePeriod_ticks = 2;
 constexpr uint8_t kDcServoSlot[3] = {0, 1, 0};  // J2, J3, J4: the tick of the period each runs in
+constexpr uint8_t kStepperRampSlot = 1;
 // Velocity feedforward: each joint's speed at full duty without load, hundredths of a rad/s
 // (the Mabuchi 578VA's 85 rpm at its worm's output over the joint's gear, 4.5, 2.5 and 2:1;
 // measure on the arm). The PID adds speed / this as effort, and its integral the rest (load,
@@ -169,10 +171,11 @@ static_assert(kDcInertiaAtWorm_gm2[0] > 0 && kDcInertiaAtWorm_gm2[1] > 0 && kDcI
 static_assert(kDcRotorInertiaAtWorm_gm2 > 0 && kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[0] &&
                   kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[1] && kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[2],
               "the rotor's inertia is part of each drive's");
-static_assert(kDcServoPeriod_ticks >= 1 && kDcServoPeriod_ticks <= 4 && kDcServoSlot[0] < kDcServoPeriod_ticks &&
-                  kDcServoSlot[1] < kDcServoPeriod_ticks && kDcServoSlot[2] < kDcServoPeriod_ticks,
-              "the DC servos run every 1 to 4 ticks, each in a slot of the period");
-static_assert(kDcServoPeriod_ticks * kMaxStep_counts_per_ms < 1023 && kDcServoPeriod_ticks < kRailTime_ms,
+static_assert(kDrivePeriod_ticks >= 1 && kDrivePeriod_ticks <= 4 && kDcServoSlot[0] < kDrivePeriod_ticks &&
+                  kDcServoSlot[1] < kDrivePeriod_ticks && kDcServoSlot[2] < kDrivePeriod_ticks &&
+                  kStepperRampSlot < kDrivePeriod_ticks,
+              "the drives' loops run every 1 to 4 ticks, each in a slot of the period");
+static_assert(kDrivePeriod_ticks * kMaxStep_counts_per_ms < 1023 && kDrivePeriod_ticks < kRailTime_ms,
               "a pot jump over a servo period is still a jump, a rail is seen over more than one period");
 static_assert(kDcStandingSpeed_mrad_s > 0 && kDcStandingSpeed_mrad_s <= 50, "DC standing speed in (0, 50] mrad/s");
 static_assert(kTrackingSlowFrom_mrad > 0 && kTrackingSlowFrom_mrad < kTrackingStopAt_mrad &&

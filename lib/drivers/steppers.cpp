@@ -263,6 +263,11 @@ __attribute__((optimize("O3"))) void kill() {
 bool running(uint8_t i) { return g_running & (1 << i); }
 Rate& rate(uint8_t i) { return g_ch[i].rate; }
 
+void count() {
+  uint8_t bit = 1;
+  for (uint8_t i = 0; i < kCount; ++i, bit = (uint8_t)(bit << 1)) count_made(g_ch[i], bit);
+}
+
 // -O3 whatever the file's level: it runs every iteration, inside the 1 ms (3 x 20 kHz leaves
 // ~3,000 cycles of it beside an 8,000-cycle iteration and the step ISRs)
 __attribute__((optimize("O3"))) void service(uint8_t ticks) {

@@ -7,8 +7,8 @@
 // fraction carried) after the last, so rounding never accumulates. Nothing else: no ramp maths
 // in the ISR (three channels at 20 kHz are 60,000 edges a second).
 //
-// The speed ramps (lib/control/step_rate.h) run in the main loop: service() once per control
-// iteration counts the steps each channel made, moves each ramp's speed by at most a dt and
+// The speed ramps (lib/control/step_rate.h) run in the main loop: service() (every second
+// control tick in the firmware, config::kDrivePeriod_ticks) counts the steps each channel made, moves each ramp's speed by at most a dt and
 // hands the ISR the new interval and the steps left before it stops (a position move stops on
 // its target in the ISR). Commands (rate(i).set_speed, move_to, stop) take effect at the next
 // service(). An edge once scheduled keeps its time; a new interval applies from the edge after.
@@ -24,7 +24,7 @@ namespace wmra {
 namespace steppers {
 
 constexpr uint32_t kTickHz = 250000;
-constexpr uint16_t kServiceHz = 1000;  // service() once per 1 kHz control tick (system_tick)
+constexpr uint16_t kServiceHz = 1000;  // a ramp's time step: the 1 kHz control tick (service() may span several)
 using Rate = control::StepRate<kTickHz, kServiceHz>;
 constexpr uint8_t kCount = 3;  // J1, J5, J6
 
@@ -37,9 +37,11 @@ void enable_drivers(bool on);
 void kill();
 bool running(uint8_t i);  // channel i has an edge scheduled
 Rate& rate(uint8_t i);    // main loop only (the ISR never reads it)
-// Once per control iteration, `ticks` control periods after the last: steps made counted into
-// the ramps' positions, the ramps advanced, the ISRs given their new intervals.
+// `ticks` control periods after the last: steps made counted into the ramps' positions, the
+// ramps advanced, the ISRs given their new intervals.
 void service(uint8_t ticks);
+// Between services: only the steps made, counted into the ramps' positions.
+void count();
 
 }  // namespace steppers
 }  // namespace wmra
