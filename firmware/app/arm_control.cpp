@@ -477,8 +477,8 @@ WMRA_COLD void enter(core::ArmState state) {
 // the load and with it the drives' speeds change with the pose, slowly: at a joint's top speed
 // the pose moves 16 mrad between updates
 constexpr uint8_t kHoldingPeriod_ticks = 8;
-// in the slot with the fewest servos: the ticks' lengths even out
-constexpr uint8_t kHoldingSlot = kDrivePeriod_ticks - 1;
+// in a slot without the stepper ramps: the ticks' lengths even out
+constexpr uint8_t kHoldingSlot = (kStepperRampSlot + 1) % kDrivePeriod_ticks;
 static_assert(kHoldingPeriod_ticks % kDrivePeriod_ticks == 0, "the holding effort's period is whole servo periods");
 
 WMRA_SMALL void update_holding() {
