@@ -532,39 +532,44 @@ static_assert(kMaxDcChange < 32768, "a DC reference's change of speed in one tic
 constexpr uint8_t kOverrunTicks = 8;  // past this many a call is one (the term is bounded below)
 constexpr int16_t kOneOverTicks[kOverrunTicks + 1] = {0, 32767, 16384, 10923, 8192, 6554, 5461, 4681, 4096};
 
-// The DC servos of this iteration's slot, each over the ticks since it last ran.
+// One DC joint's servo, over the ticks since it last ran. Out of line: in the loop over the
+// joints of a slot, avr-gcc carried a pointer into each of a dozen tables (~350 cycles an
+// iteration).
+__attribute__((noinline)) void run_dc_servo(uint8_t d) {
+  const uint8_t ticks = g_dc_elapsed[d];
+  const int16_t reference = g_pot[d].units(g_q[kDcJoint[d]].angle);
+  g_dc_reference_units[d] = reference;
+  const int16_t lag = (int16_t)(reference - g_dc_units[d]);  // [-16384 - 16368, 16383]
+  if (lag > g_lag_fault_units[d] || lag < -g_lag_fault_units[d]) g_faults |= core::fault_mask(core::kFaultBitTracking);
+  // a reference creeping slower than the standing speed (the drift correction's trickle) stands:
+  // no effort of a motion, the servo parks and follows it a count at a time
+  const fx::Real qd_raw = g_qd[kDcJoint[d]];
+  const fx::Real qd = qd_raw.raw < kStandingSpeed && qd_raw.raw > -kStandingSpeed ? fx::Real{0} : qd_raw;
+  // the change per tick: a servo's run spans `ticks` of them (its period, more after an
+  // overrun). Past two ticks (after the longest iterations, which a 32-bit division would
+  // lengthen further) a product by 1/ticks; a quarter instead moved S1's line by 0.6 mm.
+  int32_t change = qd.raw - g_dc_qd_prev[d].raw;
+  if (ticks == 2) change >>= 1;
+  else if (ticks > 2) change = (fx::Unit{kOneOverTicks[ticks < kOverrunTicks ? ticks : kOverrunTicks]} * fx::Real{change}).raw;
+  g_dc_qd_prev[d] = qd;
+  // one tick's change at most the acceleration limit's (a larger one: the reference started
+  // or stopped standing), which fits 16 bits
+  const int16_t accel = (int16_t)(change > kMaxDcChange ? kMaxDcChange : change < -kMaxDcChange ? -kMaxDcChange : change);
+  const bool slowing = (accel < 0) != (qd.raw < 0);  // the change opposes the speed
+  const int32_t duty = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw) +
+                       (fx::mul_ss(accel, slowing ? kDcBrakeFeedforward_q8[d] : kDcAccelFeedforward_q8[d]) >> 16);
+  const int16_t feedforward_q15 = effort_for_duty(control::saturate_i16(duty));
+  bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15, g_holding_effort_q15[d], ticks));
+}
+
+// The DC servos of this iteration's slot.
 void dc_tick(uint8_t slot) {
   if (slot == kHoldingSlot && g_holding_ticks_left-- == 0) {
     g_holding_ticks_left = kHoldingPeriod_ticks / kDrivePeriod_ticks - 1;
     update_holding();
   }
-  for (uint8_t d = 0; d < 3; ++d) {
-    if (kDcServoSlot[d] != slot) continue;
-    const uint8_t ticks = g_dc_elapsed[d];
-    const int16_t reference = g_pot[d].units(g_q[kDcJoint[d]].angle);
-    g_dc_reference_units[d] = reference;
-    const int16_t lag = (int16_t)(reference - g_dc_units[d]);  // [-16384 - 16368, 16383]
-    if (lag > g_lag_fault_units[d] || lag < -g_lag_fault_units[d]) g_faults |= core::fault_mask(core::kFaultBitTracking);
-    // a reference creeping slower than the standing speed (the drift correction's trickle) stands:
-    // no effort of a motion, the servo parks and follows it a count at a time
-    const fx::Real qd_raw = g_qd[kDcJoint[d]];
-    const fx::Real qd = qd_raw.raw < kStandingSpeed && qd_raw.raw > -kStandingSpeed ? fx::Real{0} : qd_raw;
-    // the change per tick: a servo's run spans `ticks` of them (its period, more after an
-    // overrun). Past two ticks (after the longest iterations, which a 32-bit division would
-    // lengthen further) a product by 1/ticks; a quarter instead moved S1's line by 0.6 mm.
-    int32_t change = qd.raw - g_dc_qd_prev[d].raw;
-    if (ticks == 2) change >>= 1;
-    else if (ticks > 2) change = (fx::Unit{kOneOverTicks[ticks < kOverrunTicks ? ticks : kOverrunTicks]} * fx::Real{change}).raw;
-    g_dc_qd_prev[d] = qd;
-    // one tick's change at most the acceleration limit's (a larger one: the reference started
-    // or stopped standing), which fits 16 bits
-    const int16_t accel = (int16_t)(change > kMaxDcChange ? kMaxDcChange : change < -kMaxDcChange ? -kMaxDcChange : change);
-    const bool slowing = (accel < 0) != (qd.raw < 0);  // the change opposes the speed
-    const int32_t duty = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw) +
-                         (fx::mul_ss(accel, slowing ? kDcBrakeFeedforward_q8[d] : kDcAccelFeedforward_q8[d]) >> 16);
-    const int16_t feedforward_q15 = effort_for_duty(control::saturate_i16(duty));
-    bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15, g_holding_effort_q15[d], ticks));
-  }
+  for (uint8_t d = 0; d < 3; ++d)
+    if (kDcServoSlot[d] == slot) run_dc_servo(d);
 }
 
 constexpr core::HomingConfig homing_config(uint8_t i) {
