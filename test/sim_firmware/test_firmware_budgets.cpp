@@ -149,9 +149,11 @@ constexpr uint64_t kIterationTarget_cycles = 8000;
 // and 29,201. Both merged, with the DC servos' speed governor: 19,537 and 28,412. Branch glue
 // (all bit-identical): the ADC and UDRE ISRs in assembly, J^-1 without its w terms for a twist
 // without angular velocity, stick_twist without a zeroed twist, adc::snapshot unrolled:
-// 18,234 and 27,932.
-constexpr double kIterationMeanBudget_cycles = 18800;   // [18,234]
-constexpr uint64_t kIterationMaxBudget_cycles = 33000;  // [27,932]
+// 18,234 and 27,932. The drives' loops every second tick (config::kDrivePeriod_ticks: the DC
+// servos of J2 and J4 in one slot, J3's with the stepper ramps in the other), one DC servo out
+// of line: 14,665 and 22,781 (the loop overran on 22 % of its ticks while driving, 12 % after).
+constexpr double kIterationMeanBudget_cycles = 15100;   // [14,665]
+constexpr uint64_t kIterationMaxBudget_cycles = 25500;  // [22,781]
 
 // The stick deflected in XY, XZ and R1 after start-up; every iteration that ends while the
 // stick is deflected counts. The simulator keeps D49's running sums, so each iteration is read
