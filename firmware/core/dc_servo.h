@@ -4,7 +4,7 @@
 // Controller: the PID of lib/control/pid.h with the reference speed's feedforward, or seed 1's
 // relay with dead zone (config). Parking: a worm-geared joint holds itself unpowered, so once
 // the reference stands (no feedforward) and the error has stayed within park_units for
-// park_ticks, the duty is 0 and the PID restarts bumplessly from rest every tick, until the
+// park_ticks, the duty is 0 and the PID restarts bumplessly from rest at every update, until the
 // error stays out of twice the band for unpark_ticks (one noisy reading at a count's edge
 // must not start the motor) or the reference moves; holding with the integral's effort would
 // draw current (about 20 A stretched) for nothing. A moving reference never parks: a slow one
@@ -82,7 +82,7 @@ class DcServo {
   // The duty for the next tick. feedforward_q15: the effort the reference's speed needs; 0
   // (within the PID's zero band) for a standing reference. Not inlined: three copies unrolled
   // into the loop cost 3 KB of flash for a call's 50 cycles.
-  // ticks: the control ticks since the last update (more than one: the loop overran); the PID
+  // ticks: the control ticks since the last update (the servo's period, more after an overrun); the PID
   // and the park timers count time, not calls.
   // holding_q15: the effort that holds the joint's load (+: the drive pushes positive to hold
   // it), for a standing reference that the joint has not reached yet.
