@@ -175,8 +175,8 @@ static_assert(kDrivePeriod_ticks >= 1 && kDrivePeriod_ticks <= 4 && kDcServoSlot
                   kDcServoSlot[1] < kDrivePeriod_ticks && kDcServoSlot[2] < kDrivePeriod_ticks &&
                   kStepperRampSlot < kDrivePeriod_ticks,
               "the drives' loops run every 1 to 4 ticks, each in a slot of the period");
-static_assert(kDrivePeriod_ticks * kMaxStep_counts_per_ms < 1023 && kDrivePeriod_ticks < kRailTime_ms,
-              "a pot jump over a servo period is still a jump, a rail is seen over more than one period");
+static_assert(kDcUnparkTime_ms >= 2 * kDrivePeriod_ticks,
+              "a parked servo counts a noisy reading as its whole period: unparking takes at least two");
 static_assert(kDcStandingSpeed_mrad_s > 0 && kDcStandingSpeed_mrad_s <= 50, "DC standing speed in (0, 50] mrad/s");
 static_assert(kTrackingSlowFrom_mrad > 0 && kTrackingSlowFrom_mrad < kTrackingStopAt_mrad &&
                   kTrackingStopAt_mrad < kTrackingFault_mrad,

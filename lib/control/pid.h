@@ -133,8 +133,9 @@ class Pid {
   void preset_integral(int16_t effort_q15) { integral_q23_ = clamp_integral((int32_t)effort_q15 << 8); }
 
   // One sample: the duty (Q15, signed) to apply. samples: how many sample periods passed since
-  // the last update (a caller that overran): the integral, the output's rate limit and the
-  // measurement's rate scale with it, so that the gains keep their meaning in time.
+  // the last update (a caller that runs every few periods, or overran): the integral, the
+  // output's rate limit and the measurement's rate scale with it, so that the gains keep their
+  // meaning in time.
   int16_t update(int16_t setpoint, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
     return update_at_error(sub_saturated_i16(setpoint, measurement), measurement, feedforward_q15, samples);
   }
@@ -144,7 +145,7 @@ class Pid {
     int16_t dm = sub_saturated_i16(measurement, m_prev_);
     m_prev_ = measurement;
     int32_t di = e == 0 ? 0 : fx::mul_ss(e, c_.gains.ki_q8);  // Q23 (a joint on its reference: no product)
-    if (samples != 1) {  // an overran call: the measurement's change per period, the integral over all
+    if (samples != 1) {  // several periods: the measurement's change per period, the integral over all
       dm = per_sample(dm, samples);
       if (samples > 1) di = mul_i32_u8(clamp_integral(di), samples);  // at most full output a sample: no overflow
     }
@@ -205,16 +206,16 @@ class Pid {
     if (distance_u16(e, 0) > p_error_limit_) return e < 0 ? -kTermLimit * 16 : kTermLimit * 16;
     return fx::mul_ss(e, c_.gains.kp_q4) * 16;
   }
-  // the rate limit over an overran call's samples, capped at 65535 (past the full span
+  // the rate limit over several samples, capped at 65535 (past the full span
   // 2 out_max, any rate is the same)
   uint16_t rate_over(uint8_t samples) const {
     const uint32_t r = fx::mul_uu((uint16_t)c_.rate_q15, samples);
     return (uint16_t)(r > 65535 ? 65535 : r);
   }
 
-  // the change of the measurement over `samples` periods as a change per period (an overran
-  // loop: rare, so out of line, and tested once in update so that the compiler does not copy
-  // the whole update per case of `samples`, 600 bytes)
+  // the change of the measurement over `samples` periods as a change per period (out of line,
+  // and tested once in update, so that the compiler does not copy the whole update per case of
+  // `samples`, 600 bytes)
   static __attribute__((noinline)) int16_t per_sample(int16_t dm, uint8_t samples) {
     if (samples == 2) return (int16_t)(dm >> 1);
     if (samples > 2) return (int16_t)(dm / (int16_t)samples);

@@ -88,7 +88,7 @@ class PlausibilityMonitor {
   __attribute__((noinline)) uint8_t update(int16_t duty_q15, int16_t position, uint8_t samples = 1) {
     if (!configured_) return faults_;
     if (position < c_.rail_low || position > c_.rail_high) {
-      rail_count_ = rail_count_ > 255 - samples ? (uint8_t)255 : (uint8_t)(rail_count_ + samples);
+      rail_count_ = add_saturated_u8(rail_count_, samples);
       if (rail_count_ >= c_.rail_samples) faults_ |= kFaultRail;
       drive_dir_ = 0;  // restart the motion checks on good data
       return faults_;

@@ -355,6 +355,27 @@ TEST(AcceptanceScenarios, S8PotOpenWireStopsUntilRearmed) {
   EXPECT_GT(rig.run_until_state(core::ArmState::running, t_open + 4.0), 0) << "re-arm with the wire mended";
 }
 
+// S8, pot, every DC joint (J2 and J4 run their servos in the other tick from J3's): an open and
+// a shorted wiper each stop the arm within 0.1 s, with that joint's rail or jump fault, and
+// nothing driven.
+TEST(AcceptanceScenarios, S8EveryPotFaultStopsTheArm) {
+  for (int d = 0; d < 3; ++d) {
+    for (plant::PotFault fault : {plant::PotFault::open, plant::PotFault::shorted}) {
+      SCOPED_TRACE("J" + std::to_string(d + 2) + (fault == plant::PotFault::open ? " open" : " shorted"));
+      Running r;
+      ASSERT_TRUE(r.ok());
+      Rig& rig = r.rig;
+      const double t_fault = rig.sim.time_s();
+      rig.sim.set_pot_fault(d + 1, fault);  // the plant's joint index
+      rig.run_to(t_fault + 0.1);
+      EXPECT_EQ(rig.state(), core::ArmState::fault);
+      EXPECT_TRUE(has_fault(rig.last(), core::kFaultBitJ2 + 4 * d + 3) || has_fault(rig.last(), core::kFaultBitJ2 + 4 * d + 2))
+          << "its rail or jump";
+      EXPECT_TRUE(rig.sim.outputs_off());
+    }
+  }
+}
+
 // S9: 1 MiB of random bytes (fixed seed) into the serial link, 91 s at 115200 baud, while
 // the arm runs at rest with the stick neutral; the same length of time without them beside it.
 // No reset, running throughout, state frames throughout, no step, the hand and the joints as
