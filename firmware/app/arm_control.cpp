@@ -166,6 +166,7 @@ constexpr uint16_t kOverrunReport_ms = 500;
 bool g_homed;
 bool g_at_target;
 bool g_moving;  // a joint move in running (to a stored pose)
+bool g_braking;  // a move the person took over: its steppers braking to rest before the stick drives
 fx::Angle g_target[6];
 fx::Unit g_speed_scale{(int16_t)fx::kUnitOne};
 int32_t g_gripper_us_q15;  // pulse width, us x 32768
@@ -450,6 +451,25 @@ WMRA_COLD void start_running() {
   g_v_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
   g_moving = false;
+  g_braking = false;
+}
+
+// The person takes over a move: its steppers brake to rest on their ramps before the stick
+// drives (their ramps cut at move speed, J1, carrying the arm, lost 128 steps and the firmware
+// no longer knew where it was); the DC joints' references stand where they are (the worm holds).
+WMRA_COLD void brake_move() {
+  for (uint8_t i = 0; i < 3; ++i) steppers::rate(i).stop();
+  for (uint8_t d = 0; d < 3; ++d) g_qd[kDcJoint[d]] = fx::Real{0};
+  g_braking = true;
+}
+
+WMRA_COLD void brake_tick() {
+  bool at_rest = true;
+  for (uint8_t i = 0; i < 3; ++i) {
+    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::rate(i).position_steps()));
+    if (steppers::running(i)) at_rest = false;
+  }
+  if (at_rest) start_running();
 }
 
 WMRA_COLD void enter(core::ArmState state) {
@@ -732,14 +752,17 @@ void iterate(Requests& rq, uint8_t ticks) {
       if (pose_slot >= 0 && (g_settings->pose_valid & (1 << pose_slot))) {
         begin_move(g_settings->pose_angle[pose_slot]);
         g_moving = true;
+        g_braking = false;
       }
-      if (g_moving && (!stick_neutral || rq.velocity_fresh)) {  // the person takes over: stop the move
+      if (g_moving && (!stick_neutral || rq.velocity_fresh)) {  // the person takes over: the move brakes
         g_moving = false;
-        start_running();
+        brake_move();
       }
       if (g_moving) {
         move_tick();
         if (g_at_target) start_running();
+      } else if (g_braking) {
+        brake_tick();
       } else {
         motion_tick(stick, rq, ticks);
       }
@@ -755,7 +778,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   // made counted every tick (the positions the loop reads are a tick old at most); homing and
   // the moves to a pose every tick (their sequences read the ramps' state a tick after a command)
   g_ramp_elapsed = control::add_saturated_u8(g_ramp_elapsed, ticks);
-  if (slot == kStepperRampSlot || state != core::ArmState::running || g_moving) {
+  if (slot == kStepperRampSlot || state != core::ArmState::running || g_moving || g_braking) {
     steppers::service(g_ramp_elapsed);
     g_ramp_elapsed = 0;
   } else {

@@ -2,6 +2,8 @@
 // simulator, the firmware's telemetry decoded as armsim decodes it, and commands to send it.
 #pragma once
 
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -22,6 +24,11 @@ const std::string kTestFirmware = std::string(FIRMWARE_DIR) + "/wmra_firmware_te
 
 // near the homing switches, so that start-up takes a few seconds
 const plant::Joints kNearHome = {1.50, 0.30, -1.00, 0.60, -1.50, 0.02};
+
+// the distance between two points in metres, in mm
+inline double distance_mm(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return 1000 * std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
 
 // a command frame with a raw payload
 inline std::vector<uint8_t> command(protocol::MsgType type, uint8_t seq, std::vector<uint8_t> payload = {}) {

@@ -20,15 +20,12 @@ namespace {
 
 using namespace wmra;
 using test::command;
+using test::distance_mm;
 using test::kFirmware;
 using test::message;
 using test::Rig;
 
 constexpr double kDeg = arm::kPi / 180;
-
-double distance_mm(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-  return 1000 * std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
-}
 
 bool has_fault(const protocol::StateMsg& s, uint8_t bit) { return (s.faults & core::fault_mask(bit)) != 0; }
 

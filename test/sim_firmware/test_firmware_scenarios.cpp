@@ -17,6 +17,7 @@ namespace {
 using namespace wmra;
 using test::Rig;
 using test::command;
+using test::distance_mm;
 using test::kFirmware;
 using test::kTestFirmware;
 
@@ -265,6 +266,37 @@ TEST(FirmwareCalibration, PosesBeyondTheSoftStopsAreDropped) {
   ASSERT_EQ(rig.telemetry.replies().size(), 2u);
   EXPECT_EQ(rig.telemetry.replies()[1].status, (uint8_t)protocol::ReplyStatus::ok) << "slot 2, at the stop, kept";
   EXPECT_NEAR(rig.sim.q()[4] * 180 / M_PI, 87.0, 0.5) << "J5 at its soft stop";
+}
+
+// A move to a stored pose that the person takes over with the stick: the steppers brake to rest
+// on their ramps, then the stick drives. (Their ramps were cut at move speed: J1, carrying the
+// arm at 0.4 rad/s, lost steps and the firmware no longer knew where it was.)
+TEST(FirmwarePoses, AMoveTakenOverByTheStickBrakesWithoutLosingSteps) {
+  Rig rig(kFirmware);
+  app::Settings settings{};
+  const double ready_deg[6] = {70, 20, -70, 50, -30, 0}, slot1_deg[6] = {40, 20, -70, 50, -70, 0};
+  for (int slot = 0; slot < 4; ++slot)
+    for (int j = 0; j < 6; ++j)
+      settings.pose_angle[slot][j] = (int32_t)std::llround((slot == 1 ? slot1_deg : ready_deg)[j] * M_PI / 180 * core::kAngleCountsPerRad);
+  settings.pose_valid = 0x03;
+  rig.sim.set_eeprom(test::settings_block(settings));
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0);
+  rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 1, {1}));
+  const double t_takeover = t_running + 1.0;  // J1 at its move speed (0.4 rad/s), 0.3 rad to go
+  rig.run_to(t_takeover);
+  const double q1_at_takeover = rig.sim.q()[0];
+  ASSERT_LT(q1_at_takeover * 180 / M_PI, 65.0) << "J1 is moving";
+  rig.sim.set_joystick(1.0, 0.0);
+  rig.run_to(t_takeover + 1.0);
+  const armsim::TrajectoryRow braked = rig.pose();
+  rig.run_to(t_takeover + 2.0);
+  EXPECT_EQ(rig.state(), core::ArmState::running);
+  EXPECT_GT(distance_mm(rig.pose().p, braked.p), 50.0) << "the stick drives after the brake";
+  rig.sim.set_joystick(0.0, 0.0);
+  rig.run_to(t_takeover + 3.0);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(rig.sim.measurements().steps[k].lost, 0) << "stepper " << k;
+  EXPECT_GT(q1_at_takeover * 180 / M_PI, 40.0) << "taken over before the pose";
 }
 
 }  // namespace

@@ -21,6 +21,7 @@ namespace {
 
 using namespace wmra;
 using test::kFirmware;
+using test::distance_mm;
 using test::Rig;
 
 constexpr double kSampleS = 0.001;
@@ -66,10 +67,6 @@ JointMotion joint_motion(const std::vector<Sample>& samples, double t0_s, double
     }
   }
   return m;
-}
-
-double distance_mm(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-  return 1000 * std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
 
 TEST(SingularityScenario, S7StretchingTheElbowStaysWithinJointSpeedsAndDrivesBack) {
