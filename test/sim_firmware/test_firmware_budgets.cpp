@@ -153,7 +153,8 @@ constexpr uint64_t kIterationTarget_cycles = 8000;
 // servos of J2 and J4 in one slot, J3's with the stepper ramps in the other), one DC servo out
 // of line: 14,665 and 22,781 (the loop overran on 22 % of its ticks while driving, 12 % after).
 // The pot checks back to every tick (a review: over a servo's period a jump check let twice
-// the glitch through): 14,891 and 22,995.
+// the glitch through): 14,891 and 22,995; with the pose move's brake on a takeover (cold code,
+// the loop's timing moved): 14,990 and 22,490.
 constexpr double kIterationMeanBudget_cycles = 15400;   // [14,891]
 constexpr uint64_t kIterationMaxBudget_cycles = 25500;  // [22,995]
 
