@@ -67,8 +67,8 @@ constexpr int16_t kPositionUnitsPerCount = 16;
 constexpr Ratio kDcKp[3] = {{5527, 100000}, {8799, 100000}, {7020, 100000}};
 constexpr Ratio kDcKi_per_s[3] = {{12754, 100000}, {24367, 100000}, {25922, 100000}};
 constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}};
-// The drives' loops run every second control tick, in two slots: the DC servos (check,
-// feedforward, PID) of J2 and J4 in one, J3's and the stepper ramps in the other (the ticks'
+// The drives' loops run every second control tick, in two slots: the DC servos (feedforward,
+// PID; their pots are checked every tick) of J2 and J4 in one, J3's and the stepper ramps in the other (the ticks'
 // lengths even out). 500 Hz each: twice seed 1's 188 Hz that removed its relay's oscillation,
 // some 20 times the DC joints' bandwidth, and the steppers' ramps move their speed in steps of
 // 2 ms of acceleration. The gains and ramps stay per tick: each loop takes the ticks since its

@@ -44,11 +44,11 @@ inline int16_t sub_saturated_i16(int16_t a, int16_t b) {
 // |a - b| of 16-bit operands, exact: the difference of two int16 values fits 16 bits unsigned
 inline uint16_t distance_u16(int16_t a, int16_t b) { return a < b ? (uint16_t)((uint16_t)b - (uint16_t)a) : (uint16_t)((uint16_t)a - (uint16_t)b); }
 
-// a * n for a product that fits int32 (modulo 2^32 otherwise), from two hardware 16x16
-// products: avr-gcc calls its 32x32 library routine for int32 * uint8
 // a + b of counts that saturate at 255 rather than wrap
 inline uint8_t add_saturated_u8(uint8_t a, uint8_t b) { return a > 255 - b ? (uint8_t)255 : (uint8_t)(a + b); }
 
+// a * n for a product that fits int32 (modulo 2^32 otherwise), from two hardware 16x16
+// products: avr-gcc calls its 32x32 library routine for int32 * uint8
 inline int32_t mul_i32_u8(int32_t a, uint8_t n) {
   fx::Word32 w;
   w.s = a;
