@@ -48,7 +48,10 @@ struct DcServoConfig {
 class DcServo {
  public:
   bool configure(const DcServoConfig& c) {
-    c_ = c;
+    use_relay_ = c.use_relay;
+    park_units_ = c.park_units;
+    park_ticks_ = c.park_ticks;
+    unpark_ticks_ = c.unpark_ticks;
     return pid_.configure(c.pid) == control::PidStatus::ok && relay_.configure(c.relay) == control::RelayStatus::ok &&
            checks_.configure(c.checks) == control::PlausibilityStatus::ok && c.park_units >= 0 &&
            c.park_units <= 16383;
@@ -93,7 +96,7 @@ class DcServo {
                                            int16_t holding_q15 = 0, uint8_t ticks = 1) {
     const int16_t e = control::sub_saturated_i16(reference_units, measured_units);
     const uint16_t error = control::distance_u16(e, 0);
-    const bool still = feedforward_q15 < c_.pid.zero_band_q15 && -feedforward_q15 < c_.pid.zero_band_q15;
+    const bool still = feedforward_q15 < pid_.config().zero_band_q15 && -feedforward_q15 < pid_.config().zero_band_q15;
     const uint8_t direction = feedforward_q15 < 0 ? 1 : 0;
     if (still && !was_still_) pid_.preset_integral(0);
     was_still_ = still;
@@ -101,8 +104,8 @@ class DcServo {
     // worm that does not back-drive lowers it with none)
     if (still && (e > 0) == (holding_q15 > 0) && e != 0) feedforward_q15 = holding_q15;
     if (parked_) {
-      out_of_band_ = error > (uint16_t)(2 * c_.park_units) ? (uint16_t)(out_of_band_ + ticks) : 0;
-      if (!still || out_of_band_ >= c_.unpark_ticks) {
+      out_of_band_ = error > (uint16_t)(2 * park_units_) ? (uint16_t)(out_of_band_ + ticks) : 0;
+      if (!still || out_of_band_ >= unpark_ticks_) {
         parked_ = false;
         in_band_ = out_of_band_ = 0;
         // lifting: the effort it moved with before; lowering (the worm takes the load): none, the
@@ -115,16 +118,16 @@ class DcServo {
         return 0;
       }
     }
-    in_band_ = still && error <= (uint16_t)c_.park_units ? (uint16_t)(in_band_ + ticks) : 0;
-    if (in_band_ >= c_.park_ticks) {
+    in_band_ = still && error <= (uint16_t)park_units_ ? (uint16_t)(in_band_ + ticks) : 0;
+    if (in_band_ >= park_ticks_) {
       parked_ = true;
       pid_.start_at_error(e, measured_units, 0);
       applied_ = 0;
       return 0;
     }
-    applied_ = c_.use_relay ? relay_.update(reference_units, measured_units)
+    applied_ = use_relay_ ? relay_.update(reference_units, measured_units)
                             : pid_.update_at_error(e, measured_units, feedforward_q15, ticks);
-    if (!still && !c_.use_relay) applied_ = keep_moving(applied_, direction, e);
+    if (!still && !use_relay_) applied_ = keep_moving(applied_, direction, e);
     if (!still) holding_q15_[direction] = (int16_t)(pid_.integral_q23() >> 8);
     return applied_;
   }
@@ -142,21 +145,26 @@ class DcServo {
   // against S1's 0.2, J2 0.04 against 0.1), so the reference draws level again; ahead by more
   // (a reference slower than that), the PID's duty stands: stop or reverse.
   int16_t keep_moving(int16_t duty_q15, uint8_t direction, int16_t e) const {
-    const int16_t min_q15 = c_.pid.min_duty_q15;
-    if (direction == 0) return duty_q15 < min_q15 && e > -c_.park_units ? min_q15 : duty_q15;
-    return duty_q15 > -min_q15 && e < c_.park_units ? (int16_t)-min_q15 : duty_q15;
+    const int16_t min_q15 = pid_.config().min_duty_q15;
+    if (direction == 0) return duty_q15 < min_q15 && e > -park_units_ ? min_q15 : duty_q15;
+    return duty_q15 > -min_q15 && e < park_units_ ? (int16_t)-min_q15 : duty_q15;
   }
 
-  DcServoConfig c_{};
+  // update's state first: within the AVR's 64-byte displacement of the object's address (the
+  // PID's and the servo's fields each reached through a pointer sum took ~100 cycles a run)
   control::Pid pid_;
-  control::Relay relay_;
-  control::PlausibilityMonitor checks_;
   int16_t holding_q15_[2] = {0, 0};  // moving up (positive), down
   bool parked_ = true;
   uint16_t out_of_band_ = 0;
   uint16_t in_band_ = 0;
   int16_t applied_ = 0;
   bool was_still_ = true;
+  bool use_relay_ = false;
+  int16_t park_units_ = 0;
+  uint16_t park_ticks_ = 1;
+  uint16_t unpark_ticks_ = 1;
+  control::Relay relay_;
+  control::PlausibilityMonitor checks_;
 };
 
 }  // namespace core

@@ -99,6 +99,7 @@ class Pid {
     slope_q15_ = (uint16_t)(((int32_t)(c.out_max_q15 - c.min_duty_q15) << 15) / c.out_max_q15);
     p_error_limit_ = term_error_limit(kTermLimit, c.gains.kp_q4);
     d_change_limit_ = term_error_limit(kTermLimit / 16, c.gains.kd);
+    rate_twice_ = rate_over(2);
     top_ = c.out_max_q15;
     bottom_ = (int16_t)-c.out_max_q15;
     configured_ = true;
@@ -145,9 +146,18 @@ class Pid {
     int16_t dm = sub_saturated_i16(measurement, m_prev_);
     m_prev_ = measurement;
     int32_t di = e == 0 ? 0 : fx::mul_ss(e, c_.gains.ki_q8);  // Q23 (a joint on its reference: no product)
-    if (samples != 1) {  // several periods: the measurement's change per period, the integral over all
+    // several periods: the measurement's change per period, the integral and the rate over all.
+    // Two, a servo that runs every second tick, without a call or a product.
+    uint16_t rate = (uint16_t)c_.rate_q15;
+    if (samples == 2) {
+      dm = (int16_t)(dm >> 1);
+      di = clamp_integral(di);
+      di += di;  // at most full output a sample: no overflow
+      rate = rate_twice_;
+    } else if (samples != 1) {
       dm = per_sample(dm, samples);
-      if (samples > 1) di = mul_i32_u8(clamp_integral(di), samples);  // at most full output a sample: no overflow
+      if (samples > 1) di = mul_i32_u8(clamp_integral(di), samples);
+      rate = rate_over(samples);
     }
     // P in Q19 clamped far beyond full output (2^26 = 128 x full), then in Q23 beside the
     // integral; D (clamped alike) and the feedforward stay in Q15 and join after the sum's
@@ -163,7 +173,6 @@ class Pid {
     const int32_t t_q15 = (int32_t)feedforward_q15 - d_q15;
     // the effort's limits this sample: from where it is towards each bound, at most the rate
     // (top_ >= 0 >= bottom_, so lo <= hi also when a bound fell below the effort)
-    const uint16_t rate = samples == 1 ? (uint16_t)c_.rate_q15 : rate_over(samples);
     const int16_t hi = towards(effort_, top_, rate);
     const int16_t lo = towards(effort_, bottom_, rate);
     // conditional integration: hold the integral when it would push further into a limit
@@ -187,6 +196,7 @@ class Pid {
     return effort_q15 < 0 ? (int16_t)-d : d;
   }
 
+  const PidConfig& config() const { return c_; }
   int16_t effort_q15() const { return effort_; }
   int32_t integral_q23() const { return integral_q23_; }
 
@@ -215,9 +225,8 @@ class Pid {
 
   // the change of the measurement over `samples` periods as a change per period (out of line,
   // and tested once in update, so that the compiler does not copy the whole update per case of
-  // `samples`, 600 bytes)
+  // `samples`, 600 bytes); two samples are update's own case
   static __attribute__((noinline)) int16_t per_sample(int16_t dm, uint8_t samples) {
-    if (samples == 2) return (int16_t)(dm >> 1);
     if (samples > 2) return (int16_t)(dm / (int16_t)samples);
     return dm;
   }
@@ -232,15 +241,18 @@ class Pid {
     return (uint16_t)(from - to) <= step ? to : (int16_t)(from - step);
   }
 
+  // (the state an update reads first: within the AVR's 64-byte displacement of a caller that
+  // holds the Pid at its start, as DcServo does)
+  int32_t integral_q23_ = 0;
+  int16_t m_prev_ = 0;
+  int16_t effort_ = 0;
+  int16_t top_ = 1, bottom_ = -1;  // the effort's bounds (set_effort_bounds)
   PidConfig c_{{0, 0, 0}, 1, 1, 0, 0};
   bool configured_ = false;
   uint16_t slope_q15_ = 32768;
   uint16_t p_error_limit_ = 65535, d_change_limit_ = 65535;
+  uint16_t rate_twice_ = 2;       // the rate limit over two samples
   int32_t integral_limit_ = 256;  // out_max in Q23
-  int16_t m_prev_ = 0;
-  int16_t effort_ = 0;
-  int16_t top_ = 1, bottom_ = -1;  // the effort's bounds (set_effort_bounds)
-  int32_t integral_q23_ = 0;
 };
 
 }  // namespace control
