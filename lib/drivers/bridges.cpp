@@ -27,12 +27,15 @@ constexpr uint8_t kComNonInverting = 2;
 
 // Always inlined with a constant pin: every register address folds to a constant (a runtime
 // lookup in the pin tables costs ~250 cycles a call).
+// A side switched off: its output disconnected from the timer (what side() does for a duty of 0,
+// without the product: the asm multiply does not fold with a constant operand).
+__attribute__((always_inline)) inline void side_off(ComparePin p) { pins::set_com(p, 0); }
 __attribute__((always_inline)) inline void side(ComparePin p, uint16_t duty_q15) {
   const uint16_t top = eight_bit(p) ? kTop8 : kTop16;
   // duty (top + 1) / 2^15 as the high half of duty 2 (top + 1): one 16 x 16 product
   const uint16_t ocr = fx::hi16(fx::mul_uu(duty_q15, (uint16_t)(2u * (top + 1u))));
   if (ocr == 0) {
-    pins::set_com(p, 0);
+    side_off(p);
     return;
   }
   if (eight_bit(p)) {
@@ -50,10 +53,10 @@ void set_joint(int16_t duty_q15) {
   const uint8_t s = SREG;
   cli();  // the e-stop ISR writes the same TCCRnA registers
   if (duty_q15 > 0) {
-    side(b.right, 0);
+    side_off(b.right);
     side(b.left, magnitude);
   } else {
-    side(b.left, 0);
+    side_off(b.left);
     side(b.right, magnitude);
   }
   SREG = s;
