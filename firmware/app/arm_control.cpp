@@ -82,9 +82,6 @@ static_assert(kRampConstants[0].status == control::RateStatus::ok && kRampConsta
                   kRampConstants[2].status == control::RateStatus::ok,
               "a stepper's acceleration or top speed does not fit its ramp (lib/control/step_rate.h)");
 
-// the DC joints' feedforward: effort (Q15 through a Unit) per rad/s of reference speed
-constexpr fx::Unit kDcFeedforward[3] = {fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[0]}), fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[1]}),
-                                        fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[2]})};
 // a joint-space move's step per tick (Angle counts) as a speed
 constexpr int32_t kRealPerAngleCountPerTick = (int32_t)(core::kRealPerRad * kLoopHz / core::kAngleCountsPerRad + 0.5);
 
@@ -113,9 +110,6 @@ constexpr int32_t accel_feedforward_q8(int16_t inertia_gm2, uint8_t d) {
                        32768.0 / 8388608.0 * 65536.0 +
                    0.5);
 }
-constexpr int16_t kDcAccelFeedforward_q8[3] = {(int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[0], 0),
-                                               (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[1], 1),
-                                               (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[2], 2)};
 static_assert(accel_feedforward_q8(kDcInertiaAtWorm_gm2[0], 0) < 32768 && accel_feedforward_q8(kDcInertiaAtWorm_gm2[1], 1) < 32768 &&
                   accel_feedforward_q8(kDcInertiaAtWorm_gm2[2], 2) < 32768,
               "the inertia's feedforward fits 16 bits");
@@ -125,7 +119,16 @@ static_assert(accel_feedforward_q8(kDcInertiaAtWorm_gm2[0], 0) < 32768 && accel_
 constexpr int16_t brake_feedforward_q8(uint8_t d) {
   return (int16_t)accel_feedforward_q8(kDcSelfLocking ? kDcRotorInertiaAtWorm_gm2 : kDcInertiaAtWorm_gm2[d], d);
 }
-constexpr int16_t kDcBrakeFeedforward_q8[3] = {brake_feedforward_q8(0), brake_feedforward_q8(1), brake_feedforward_q8(2)};
+// a DC joint's feedforward constants together (one address for run_dc_servo)
+struct DcFeedforward {
+  fx::Unit per_speed;  // effort (Q15 through a Unit) per rad/s of reference speed
+  int16_t accel_q8;    // per change of the reference speed in a tick, speeding up
+  int16_t brake_q8;    // and slowing down
+};
+constexpr DcFeedforward kDcFeedforward[3] = {
+    {fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[0]}), (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[0], 0), brake_feedforward_q8(0)},
+    {fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[1]}), (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[1], 1), brake_feedforward_q8(1)},
+    {fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[2]}), (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[2], 2), brake_feedforward_q8(2)}};
 
 // switch bits (inputs.h): 2j low, 2j+1 high; J6's zero switch is passed in normal motion
 constexpr uint16_t kSwitchesArmed = 0x3FF;
@@ -139,21 +142,26 @@ core::ArmState g_prev_state = core::ArmState::boot;
 control::Joystick g_stick;
 control::Button g_button;
 core::DcServo g_servo[3];
-core::PotMap g_pot[3];
-int16_t g_dc_units[3];  // measured, ADC counts x 16 (< 16,368)
+// A DC joint's state that its servo's run reads, together: run_dc_servo reaches every field
+// from one address (a table per field cost an address sum each, ~100 cycles a run)
+struct DcJoint {
+  int16_t units;            // measured, ADC counts x 16 (< 16,368)
+  int16_t reference_units;  // the reference in pot units, as the last dc_tick drove it (PotMap::units)
+  int16_t lag_fault_units;  // capped at 32767: a reference less a reading is at most 32,752
+  int16_t holding_q15;      // the holding effort's duty at the reference pose (core::HoldingEffort)
+  int16_t holding_effort_q15;  // the same as the servo's effort (through the dead-zone inverse)
+  uint8_t elapsed;          // control ticks since the servo last ran
+  fx::Real qd_prev;         // the reference's speed of the last dc_tick (its acceleration)
+  core::PotMap pot;
+};
+DcJoint g_dc[3];
 uint8_t g_slot;            // this iteration's slot of the drives' period (config::kDcServoSlot, kStepperRampSlot)
-uint8_t g_dc_elapsed[3];   // control ticks since each DC servo last ran
 uint8_t g_ramp_elapsed;    // and since the stepper ramps last ran
-fx::Real g_dc_qd_prev[3];  // the DC references' speeds of the last dc_tick (their acceleration)
-int16_t g_dc_reference_units[3];  // the references in pot units, as the last dc_tick drove them (PotMap::units)
 int32_t g_lag_slow_units[3], g_lag_stop_units[3];
-int16_t g_lag_fault_units[3];  // capped at 32767: a reference less a reading is at most 32,752
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
 core::AngleAccumulator g_q[6];  // joint references
 fx::Real g_qd[6];             // joint reference velocities
-core::HoldingEffort g_holding;  // the DC joints' holding effort at the reference pose
-int16_t g_holding_effort_q15[3];  // the same as the servos' effort (through the dead-zone inverse)
 uint8_t g_holding_ticks_left;   // until it is computed again
 kin::Vec3<fx::Real> g_v_m_s;  // the hand's commanded velocity, as far as g_qd has reached it
 kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
@@ -197,8 +205,8 @@ WMRA_COLD void drives_off() {
     g_q[kStepperJoint[i]].set(kStepperMap[i].angle(r.position_steps()));
   }
   for (uint8_t d = 0; d < 3; ++d) {
-    g_servo[d].rest(g_dc_units[d]);
-    g_q[kDcJoint[d]].set(g_pot[d].angle(g_dc_units[d]));
+    g_servo[d].rest(g_dc[d].units);
+    g_q[kDcJoint[d]].set(g_dc[d].pot.angle(g_dc[d].units));
   }
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
 }
@@ -207,10 +215,10 @@ WMRA_COLD void drives_off() {
 // whose change would be one tick's braking feedforward).
 WMRA_COLD void drives_on() {
   for (uint8_t d = 0; d < 3; ++d) {
-    g_servo[d].rest(g_dc_units[d]);
-    g_q[kDcJoint[d]].set(g_pot[d].angle(g_dc_units[d]));
-    g_dc_reference_units[d] = g_dc_units[d];
-    g_dc_qd_prev[d] = fx::Real{0};
+    g_servo[d].rest(g_dc[d].units);
+    g_q[kDcJoint[d]].set(g_dc[d].pot.angle(g_dc[d].units));
+    g_dc[d].reference_units = g_dc[d].units;
+    g_dc[d].qd_prev = fx::Real{0};
   }
   for (uint8_t i = 0; i < 3; ++i) g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::rate(i).position_steps()));
   steppers::enable_drivers(true);
@@ -261,7 +269,7 @@ WMRA_COLD void move_tick() {
     if (step < -max_step) step = -max_step;
     g_q[j].set(fx::Angle{g_q[j].angle.raw + step});
     g_qd[j] = fx::Real{step * kRealPerAngleCountPerTick};
-    const int32_t error = g_pot[d].angle(g_dc_units[d]).raw - g_target[j].raw;
+    const int32_t error = g_dc[d].pot.angle(g_dc[d].units).raw - g_target[j].raw;
     if (g_q[j].angle.raw != g_target[j].raw || error > kTolerance || error < -kTolerance) arrived = false;
   }
   g_at_target = arrived;
@@ -290,7 +298,7 @@ WMRA_COLD void homing_tick(uint16_t switches) {
 fx::Unit tracking_factor() {
   int32_t f = fx::kUnitOne;
   for (uint8_t d = 0; d < 3; ++d) {
-    int32_t lag = g_dc_reference_units[d] - g_dc_units[d];
+    int32_t lag = g_dc[d].reference_units - g_dc[d].units;
     if (lag < 0) lag = -lag;
     if (lag <= g_lag_slow_units[d]) continue;
     const int32_t fd = lag >= g_lag_stop_units[d] ? 0 : (g_lag_stop_units[d] - lag) * g_lag_inverse[d];
@@ -505,14 +513,16 @@ static_assert(kHoldingPeriod_ticks % kDrivePeriod_ticks == 0, "the holding effor
 WMRA_SMALL void update_holding() {
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
-  g_holding = core::holding_effort(kin::arm_trig<Fixed>(q));
+  const core::HoldingEffort holding = core::holding_effort(kin::arm_trig<Fixed>(q));
   // the model plans with the duty beyond the stiction's (the dead-zone inverse's slope), and
   // keeps the reserve's share of what is left after the holding effort for the PID
   constexpr int16_t kUsable_q15 = permille_q15(kDutySlope_permille);
   constexpr int16_t kPlanned_q15 = permille_q15(1000 - kDcDutyReserve_permille);
-  static constexpr fx::Real kFullDutySpeed[3] = {fx::real(Ratio{kDcFullDutySpeed_crad_s[0], 100}),
-                                                 fx::real(Ratio{kDcFullDutySpeed_crad_s[1], 100}),
-                                                 fx::real(Ratio{kDcFullDutySpeed_crad_s[2], 100})};
+  // the planned share of each drive's full-duty speed (Unit{kPlanned_q15} * full-duty speed)
+  static constexpr fx::Real kPlannedSpeed[3] = {
+      fx::Real{fx::mul_q15_const(fx::real(Ratio{kDcFullDutySpeed_crad_s[0], 100}).raw, kPlanned_q15)},
+      fx::Real{fx::mul_q15_const(fx::real(Ratio{kDcFullDutySpeed_crad_s[1], 100}).raw, kPlanned_q15)},
+      fx::Real{fx::mul_q15_const(fx::real(Ratio{kDcFullDutySpeed_crad_s[2], 100}).raw, kPlanned_q15)}};
   // the duty that moves a DC joint at its speed limit without load (Q15)
   static constexpr int16_t kLimitDuty_q15[3] = {
       (int16_t)(32767L * kJointSpeedLimit_crad_s[kDcJoint[0]] / kDcFullDutySpeed_crad_s[0]),
@@ -529,16 +539,16 @@ WMRA_SMALL void update_holding() {
                                  kRelayDuty_permille <= kDcMinDuty_permille + (int32_t)kDutySlope_permille * kLimitDuty_q15[2] / 32767),
                 "the relay's duty within every DC joint's speed limit");
   for (uint8_t d = 0; d < 3; ++d) {
-    const int16_t h = g_holding.duty_q15[d];
-    g_holding_effort_q15[d] = effort_for_duty(h);
+    const int16_t h = g_dc[d].holding_q15 = holding.duty_q15[d];
+    g_dc[d].holding_effort_q15 = effort_for_duty(h);
     // the speed governor: each way, the effort of the speed limit and of the load's lifting
     // (the feedforward's model at the limit speed, without the acceleration's term)
     g_servo[d].set_effort_bounds(
         effort_for_duty(control::saturate_i16((int32_t)kLimitDuty_q15[d] + core::lifting_effort_q15(h, 1))),
         effort_for_duty(control::saturate_i16((int32_t)kLimitDuty_q15[d] - core::lifting_effort_q15(h, -1))));
     const int16_t up = (int16_t)(kUsable_q15 - (h > 0 ? h : 0)), down = (int16_t)(kUsable_q15 - (h < 0 ? -h : 0));
-    g_drives.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * (fx::Unit{kPlanned_q15} * kFullDutySpeed[d]);
-    g_drives.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * (fx::Unit{kPlanned_q15} * kFullDutySpeed[d]);
+    g_drives.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * kPlannedSpeed[d];
+    g_drives.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * kPlannedSpeed[d];
   }
 }
 
@@ -557,11 +567,12 @@ constexpr int16_t kOneOverTicks[kOverrunTicks + 1] = {0, 32767, 16384, 10923, 81
 // joints of a slot, avr-gcc carried a pointer into each of a dozen tables (~350 cycles an
 // iteration).
 __attribute__((noinline)) void run_dc_servo(uint8_t d) {
-  const uint8_t ticks = g_dc_elapsed[d];
-  const int16_t reference = g_pot[d].units(g_q[kDcJoint[d]].angle);
-  g_dc_reference_units[d] = reference;
-  const int16_t lag = (int16_t)(reference - g_dc_units[d]);  // [-16384 - 16368, 16383]
-  if (lag > g_lag_fault_units[d] || lag < -g_lag_fault_units[d]) g_faults |= core::fault_mask(core::kFaultBitTracking);
+  DcJoint& dc = g_dc[d];
+  const uint8_t ticks = dc.elapsed;
+  const int16_t reference = dc.pot.units(g_q[kDcJoint[d]].angle);
+  dc.reference_units = reference;
+  const int16_t lag = (int16_t)(reference - dc.units);  // [-16384 - 16368, 16383]
+  if (lag > dc.lag_fault_units || lag < -dc.lag_fault_units) g_faults |= core::fault_mask(core::kFaultBitTracking);
   // a reference creeping slower than the standing speed (the drift correction's trickle) stands:
   // no effort of a motion, the servo parks and follows it a count at a time
   const fx::Real qd_raw = g_qd[kDcJoint[d]];
@@ -569,18 +580,24 @@ __attribute__((noinline)) void run_dc_servo(uint8_t d) {
   // the change per tick: a servo's run spans `ticks` of them (its period, more after an
   // overrun). Past two ticks (after the longest iterations, which a 32-bit division would
   // lengthen further) a product by 1/ticks; a quarter instead moved S1's line by 0.6 mm.
-  int32_t change = qd.raw - g_dc_qd_prev[d].raw;
+  int32_t change = qd.raw - dc.qd_prev.raw;
   if (ticks == 2) change >>= 1;
   else if (ticks > 2) change = (fx::Unit{kOneOverTicks[ticks < kOverrunTicks ? ticks : kOverrunTicks]} * fx::Real{change}).raw;
-  g_dc_qd_prev[d] = qd;
+  dc.qd_prev = qd;
   // one tick's change at most the acceleration limit's (a larger one: the reference started
   // or stopped standing), which fits 16 bits
   const int16_t accel = (int16_t)(change > kMaxDcChange ? kMaxDcChange : change < -kMaxDcChange ? -kMaxDcChange : change);
-  const bool slowing = (accel < 0) != (qd.raw < 0);  // the change opposes the speed
-  const int32_t duty = ((kDcFeedforward[d] * qd).raw >> 8) + core::lifting_effort_q15(g_holding.duty_q15[d], qd.raw) +
-                       (fx::mul_ss(accel, slowing ? kDcBrakeFeedforward_q8[d] : kDcAccelFeedforward_q8[d]) >> 16);
-  const int16_t feedforward_q15 = effort_for_duty(control::saturate_i16(duty));
-  bridges::set(d, g_servo[d].update(reference, g_dc_units[d], feedforward_q15, g_holding_effort_q15[d], ticks));
+  // a reference that stands and stood (every term 0, and so the effort) or moves evenly (no
+  // acceleration's term): no product for the missing terms
+  int16_t feedforward_q15 = 0;
+  if (qd.raw != 0 || accel != 0) {
+    const bool slowing = (accel < 0) != (qd.raw < 0);  // the change opposes the speed
+    const DcFeedforward& k = kDcFeedforward[d];
+    int32_t duty = qd.raw == 0 ? 0 : ((k.per_speed * qd).raw >> 8) + core::lifting_effort_q15(dc.holding_q15, qd.raw);
+    if (accel != 0) duty += fx::mul_ss(accel, slowing ? k.brake_q8 : k.accel_q8) >> 16;
+    feedforward_q15 = effort_for_duty(control::saturate_i16(duty));
+  }
+  bridges::set(d, g_servo[d].update(reference, dc.units, feedforward_q15, dc.holding_effort_q15, ticks));
 }
 
 // The DC servos of this iteration's slot.
@@ -632,12 +649,12 @@ WMRA_COLD void configure_pot(const Settings& settings, uint8_t d) {
   using L = kin::JointLimits<Fixed>;
   const uint8_t j = kDcJoint[d];
   const int32_t at_min = settings.pot_at_min_counts_x16[d], at_max = settings.pot_at_max_counts_x16[d];
-  g_pot[d] = core::PotMap::make(L::min[j], L::max[j], at_min, at_max);
+  g_dc[d].pot = core::PotMap::make(L::min[j], L::max[j], at_min, at_max);
   const uint32_t units = (uint32_t)(at_max - at_min), counts = (uint32_t)(L::max[j].raw - L::min[j].raw);
   g_lag_slow_units[d] = lag_units(units, counts, kTrackingSlowFrom_mrad);
   g_lag_stop_units[d] = lag_units(units, counts, kTrackingStopAt_mrad);
   const int32_t fault_units = lag_units(units, counts, kTrackingFault_mrad);
-  g_lag_fault_units[d] = (int16_t)(fault_units > 32767 ? 32767 : fault_units);
+  g_dc[d].lag_fault_units = (int16_t)(fault_units > 32767 ? 32767 : fault_units);
   g_lag_inverse[d] = (int16_t)(32767 / (g_lag_stop_units[d] - g_lag_slow_units[d]));
 }
 
@@ -702,9 +719,9 @@ void iterate(Requests& rq, uint8_t ticks) {
   for (uint8_t d = 0; d < 3; ++d) {
     // a 16-bit product (10-bit counts x 16): a 32-bit one is a shift loop
     static_assert(1023 * kPositionUnitsPerCount < 32768, "pot units of a 10-bit reading fit 16 bits");
-    g_dc_units[d] = (int16_t)(adc[kAdcPot + d] * kPositionUnitsPerCount);
-    g_dc_elapsed[d] = control::add_saturated_u8(g_dc_elapsed[d], ticks);
-    const uint8_t flags = g_servo[d].check(g_dc_units[d], ticks);
+    g_dc[d].units = (int16_t)(adc[kAdcPot + d] * kPositionUnitsPerCount);
+    g_dc[d].elapsed = control::add_saturated_u8(g_dc[d].elapsed, ticks);
+    const uint8_t flags = g_servo[d].check(g_dc[d].units, ticks);
     if (flags) g_faults |= core::dc_joint_faults(d, flags);  // a 32-bit shift by a run-time count is a loop
   }
   if (inputs::take_switch_event()) g_faults |= core::fault_mask(core::kFaultBitLimitUnexpected);
@@ -715,7 +732,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   const bool halted = before == core::ArmState::stopped || before == core::ArmState::fault;
   if (halted && (rq.rearm || long_press) && !safety) {
     g_faults = 0;
-    for (uint8_t d = 0; d < 3; ++d) g_servo[d].reset_checks(g_dc_units[d]);
+    for (uint8_t d = 0; d < 3; ++d) g_servo[d].reset_checks(g_dc[d].units);
   }
   const bool stick_valid = !(stick.status & (control::kJoystickRailX | control::kJoystickRailY));
   const bool stick_neutral = stick.x_q15 == 0 && stick.y_q15 == 0 && !(stick.status & control::kJoystickCalibrating);
@@ -773,7 +790,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   }
   if (g_supervisor.drives_enabled()) dc_tick(slot);
   for (uint8_t d = 0; d < 3; ++d)
-    if (kDcServoSlot[d] == slot) g_dc_elapsed[d] = 0;
+    if (kDcServoSlot[d] == slot) g_dc[d].elapsed = 0;
   // the steppers' ramps with this iteration's commands: while running in their slot, the steps
   // made counted every tick (the positions the loop reads are a tick old at most); homing and
   // the moves to a pose every tick (their sequences read the ramps' state a tick after a command)
@@ -800,7 +817,7 @@ void iterate(Requests& rq, uint8_t ticks) {
 WMRA_COLD const Status& status() {
   for (uint8_t i = 0; i < 3; ++i)
     g_status.q_measured[kStepperJoint[i]] = kStepperMap[i].angle(steppers::rate(i).position_steps());
-  for (uint8_t d = 0; d < 3; ++d) g_status.q_measured[kDcJoint[d]] = g_pot[d].angle(g_dc_units[d]);
+  for (uint8_t d = 0; d < 3; ++d) g_status.q_measured[kDcJoint[d]] = g_dc[d].pot.angle(g_dc[d].units);
   for (uint8_t j = 0; j < 6; ++j) {
     g_status.q_ref[j] = g_q[j].angle;
     g_status.qd_rad_s[j] = g_qd[j];
@@ -845,7 +862,7 @@ protocol::CalibrationMsg calibration() {
   for (uint8_t d = 0; d < 3; ++d) {
     m.at_min_counts_x16[d] = g_settings->pot_at_min_counts_x16[d];
     m.at_max_counts_x16[d] = g_settings->pot_at_max_counts_x16[d];
-    m.reading_counts_x16[d] = (int16_t)g_dc_units[d];
+    m.reading_counts_x16[d] = (int16_t)g_dc[d].units;
   }
   m.from_command = g_settings->pot_calibrated;
   return m;

@@ -98,6 +98,8 @@ class Pid {
     integral_limit_ = (int32_t)c.out_max_q15 << 8;
     slope_q15_ = (uint16_t)(((int32_t)(c.out_max_q15 - c.min_duty_q15) << 15) / c.out_max_q15);
     p_error_limit_ = term_error_limit(kTermLimit, c.gains.kp_q4);
+    i_error_limit_ = term_error_limit(integral_limit_, c.gains.ki_q8);
+    kp_x16_ = c.gains.kp_q4 < 4096 ? (uint16_t)(c.gains.kp_q4 * 16) : (uint16_t)0;
     d_change_limit_ = term_error_limit(kTermLimit / 16, c.gains.kd);
     rate_twice_ = rate_over(2);
     top_ = c.out_max_q15;
@@ -120,8 +122,9 @@ class Pid {
     start_at_error(sub_saturated_i16(setpoint, measurement), measurement, applied_effort_q15);
   }
   // the same with the error setpoint - measurement already formed and saturated to +-32767
-  // (a caller that needs it too: one subtraction)
-  void start_at_error(int16_t error, int16_t measurement, int16_t applied_effort_q15) {
+  // (a caller that needs it too: one subtraction). Out of line: a servo restarts from several
+  // places of its update, each an inlined copy of P's product otherwise.
+  __attribute__((noinline)) void start_at_error(int16_t error, int16_t measurement, int16_t applied_effort_q15) {
     m_prev_ = measurement;
     effort_ = applied_effort_q15 > c_.out_max_q15    ? c_.out_max_q15
               : applied_effort_q15 < -c_.out_max_q15 ? (int16_t)-c_.out_max_q15
@@ -151,7 +154,8 @@ class Pid {
     uint16_t rate = (uint16_t)c_.rate_q15;
     if (samples == 2) {
       dm = (int16_t)(dm >> 1);
-      di = clamp_integral(di);
+      // (|e| Ki within the clamp, the usual case: a 16-bit compare says so)
+      if (distance_u16(e, 0) > i_error_limit_) di = clamp_integral(di);
       di += di;  // at most full output a sample: no overflow
       rate = rate_twice_;
     } else if (samples != 1) {
@@ -214,6 +218,8 @@ class Pid {
   int32_t p_q23(int16_t e) const {
     if (e == 0) return 0;
     if (distance_u16(e, 0) > p_error_limit_) return e < 0 ? -kTermLimit * 16 : kTermLimit * 16;
+    // Kp 16 within 16 bits unsigned: one product, no 32-bit shift (a loop on the AVR)
+    if (kp_x16_ != 0 || c_.gains.kp_q4 == 0) return fx::mul_us(kp_x16_, e);
     return fx::mul_ss(e, c_.gains.kp_q4) * 16;
   }
   // the rate limit over several samples, capped at 65535 (past the full span
@@ -251,6 +257,8 @@ class Pid {
   bool configured_ = false;
   uint16_t slope_q15_ = 32768;
   uint16_t p_error_limit_ = 65535, d_change_limit_ = 65535;
+  uint16_t i_error_limit_ = 65535;  // |e| Ki within the integral's clamp up to this |e|
+  uint16_t kp_x16_ = 0;             // Kp 16, when it fits 16 bits (Kp < 4096), else 0
   uint16_t rate_twice_ = 2;       // the rate limit over two samples
   int32_t integral_limit_ = 256;  // out_max in Q23
 };

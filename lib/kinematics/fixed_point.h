@@ -291,6 +291,10 @@ inline bool operator>(Real a, Real b) { return a.raw > b.raw; }
 // takes any register, so the compiler need not move the operands into r16-r23. The signs
 // are put back afterwards, with the unsigned readings X, C of x, c:
 // x c = X C - [c < 0] X 2^16 - [x < 0] C 2^32 (mod 2^48), a branch around each subtraction.
+// mul_q15 of constants, at compile time (the same formula)
+constexpr int32_t mul_q15_const(int32_t x, int16_t c) {
+  return (int32_t)(((int64_t)x * c - (int64_t)(x & 0xFF) * (c & 0xFF)) >> 15);
+}
 #if defined(__AVR__)
 #define WMRA_STR(x) #x
 // r0:r1 = byte i of x times byte j of c

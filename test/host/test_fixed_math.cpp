@@ -130,6 +130,7 @@ TEST(FixedPoint, ProductsLeaveOutOnlyTheLowBytes) {
     const double exact = std::floor((double)a * b / 32768.0);
     const int32_t p = mul_q15(a, b);
     ASSERT_EQ(p, (int32_t)std::floor(((double)a * b - low(a, b)) / 32768.0));
+    ASSERT_EQ(mul_q15_const(a, b), p);  // the compile-time form
     ASSERT_LE(p, exact);
     ASSERT_GE(p, exact - 2);
     const int32_t s = dot_q15(b, a, d, y);
