@@ -163,6 +163,7 @@ core::StepperHoming g_homing[3];
 core::AngleAccumulator g_q[6];  // joint references
 fx::Real g_qd[6];             // joint reference velocities
 uint8_t g_holding_ticks_left;   // until it is computed again
+bool g_holding_governs;         // the last update set the governor's bounds and drive speeds
 kin::Vec3<fx::Real> g_v_m_s;  // the hand's commanded velocity, as far as g_qd has reached it
 kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
 kin::Vec3<fx::Real> g_drift_m_s;  // the drift correction, held between its updates
@@ -504,13 +505,18 @@ WMRA_COLD void enter(core::ArmState state) {
 }
 
 // the load and with it the drives' speeds change with the pose, slowly: at a joint's top speed
-// the pose moves 16 mrad between updates
+// the pose moves 16 mrad between updates. The speed governor's bounds and the drives' speeds
+// every second update: between those the angle sums the load depends on (q2, q2 + q3,
+// q2 + q3 + q4) move at most 16, 32 and 58 mrad at the DC joints' speed limits, which changes a
+// holding duty of at most 70 % (J3 stretched) by at most 4 % of full duty, within the 10 %
+// reserve the plan keeps for the PID (kDcDutyReserve_permille). (All of it every 16 ticks, the
+// holding effort itself too, turned the hand in S2 by 0.91 deg where it was 0.78.)
 constexpr uint8_t kHoldingPeriod_ticks = 8;
 // in a slot without the stepper ramps: the ticks' lengths even out
 constexpr uint8_t kHoldingSlot = (kStepperRampSlot + 1) % kDrivePeriod_ticks;
 static_assert(kHoldingPeriod_ticks % kDrivePeriod_ticks == 0, "the holding effort's period is whole servo periods");
 
-WMRA_SMALL void update_holding() {
+WMRA_SMALL void update_holding(bool governor) {
   kin::JointAngles<Fixed> q;
   for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
   const core::HoldingEffort holding = core::holding_effort(kin::arm_trig<Fixed>(q));
@@ -541,6 +547,7 @@ WMRA_SMALL void update_holding() {
   for (uint8_t d = 0; d < 3; ++d) {
     const int16_t h = g_dc[d].holding_q15 = holding.duty_q15[d];
     g_dc[d].holding_effort_q15 = effort_for_duty(h);
+    if (!governor) continue;
     // the speed governor: each way, the effort of the speed limit and of the load's lifting
     // (the feedforward's model at the limit speed, without the acceleration's term)
     g_servo[d].set_effort_bounds(
@@ -604,7 +611,7 @@ __attribute__((noinline)) void run_dc_servo(uint8_t d) {
 void dc_tick(uint8_t slot) {
   if (slot == kHoldingSlot && g_holding_ticks_left-- == 0) {
     g_holding_ticks_left = kHoldingPeriod_ticks / kDrivePeriod_ticks - 1;
-    update_holding();
+    update_holding(g_holding_governs = !g_holding_governs);
   }
   for (uint8_t d = 0; d < 3; ++d)
     if (kDcServoSlot[d] == slot) run_dc_servo(d);
