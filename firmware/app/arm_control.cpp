@@ -160,7 +160,7 @@ uint8_t g_ramp_elapsed;    // and since the stepper ramps last ran
 int32_t g_lag_slow_units[3], g_lag_stop_units[3];
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
-core::AngleAccumulator g_q[6];  // joint references
+core::JointReferences g_q;  // joint references
 fx::Real g_qd[6];             // joint reference velocities
 uint8_t g_holding_ticks_left;   // until it is computed again
 bool g_holding_governs;         // the last update set the governor's bounds and drive speeds
@@ -203,11 +203,11 @@ WMRA_COLD void drives_off() {
     steppers::Rate& r = steppers::rate(i);
     if (!r.stops_within_a_step()) g_homed = false;
     r.halt();
-    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(r.position_steps()));
+    g_q.set(kStepperJoint[i], kStepperMap[i].angle(r.position_steps()));
   }
   for (uint8_t d = 0; d < 3; ++d) {
     g_servo[d].rest(g_dc[d].units);
-    g_q[kDcJoint[d]].set(g_dc[d].pot.angle(g_dc[d].units));
+    g_q.set(kDcJoint[d], g_dc[d].pot.angle(g_dc[d].units));
   }
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
 }
@@ -217,11 +217,11 @@ WMRA_COLD void drives_off() {
 WMRA_COLD void drives_on() {
   for (uint8_t d = 0; d < 3; ++d) {
     g_servo[d].rest(g_dc[d].units);
-    g_q[kDcJoint[d]].set(g_dc[d].pot.angle(g_dc[d].units));
+    g_q.set(kDcJoint[d], g_dc[d].pot.angle(g_dc[d].units));
     g_dc[d].reference_units = g_dc[d].units;
     g_dc[d].qd_prev = fx::Real{0};
   }
-  for (uint8_t i = 0; i < 3; ++i) g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::rate(i).position_steps()));
+  for (uint8_t i = 0; i < 3; ++i) g_q.set(kStepperJoint[i], kStepperMap[i].angle(steppers::rate(i).position_steps()));
   steppers::enable_drivers(true);
 }
 
@@ -258,20 +258,20 @@ WMRA_COLD void move_tick() {
   bool arrived = true;
   for (uint8_t i = 0; i < 3; ++i) {
     const int32_t position = steppers::rate(i).position_steps();
-    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(position));
+    g_q.set(kStepperJoint[i], kStepperMap[i].angle(position));
     if (steppers::running(i) || position != kStepperMap[i].steps(g_target[kStepperJoint[i]])) arrived = false;
   }
   constexpr int32_t kTolerance = (int32_t)(kArrivedTolerance_mdeg / 1000.0 / 360.0 * fx::kAngleTurn);
   for (uint8_t d = 0; d < 3; ++d) {
     const uint8_t j = kDcJoint[d];
     const int32_t max_step = kMoveStepPerTick[d];
-    int32_t step = g_target[j].raw - g_q[j].angle.raw;
+    int32_t step = g_target[j].raw - g_q.q.q[j].raw;
     if (step > max_step) step = max_step;
     if (step < -max_step) step = -max_step;
-    g_q[j].set(fx::Angle{g_q[j].angle.raw + step});
+    g_q.set(j, fx::Angle{g_q.q.q[j].raw + step});
     g_qd[j] = fx::Real{step * kRealPerAngleCountPerTick};
     const int32_t error = g_dc[d].pot.angle(g_dc[d].units).raw - g_target[j].raw;
-    if (g_q[j].angle.raw != g_target[j].raw || error > kTolerance || error < -kTolerance) arrived = false;
+    if (g_q.q.q[j].raw != g_target[j].raw || error > kTolerance || error < -kTolerance) arrived = false;
   }
   g_at_target = arrived;
 }
@@ -284,7 +284,7 @@ WMRA_COLD void homing_tick(uint16_t switches) {
     g_homing[i].update((switches & kHomingSwitch[i]) != 0, steppers::running(i), steppers::rate(i));
     if (g_homing[i].failed()) g_faults |= core::fault_mask(core::kFaultBitHomingFailed);
     if (!g_homing[i].done()) all_done = false;
-    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::rate(i).position_steps()));
+    g_q.set(kStepperJoint[i], kStepperMap[i].angle(steppers::rate(i).position_steps()));
   }
   g_homed = all_done;
 }
@@ -365,7 +365,7 @@ template <uint8_t kStepper>
 void track_stepper() {
   constexpr uint8_t j = kStepperJoint[kStepper];
   steppers::Rate& rate = steppers::rate(kStepper);
-  const int32_t error = kStepperMap[kStepper].steps(g_q[j].angle) - rate.position_steps();
+  const int32_t error = kStepperMap[kStepper].steps(g_q.q.q[j]) - rate.position_steps();
   rate.set_speed(core::tracking_speed_steps_s(kTracking[kStepper], kStepperMap[kStepper].speed_steps_s(g_qd[j]), error));
 }
 
@@ -381,8 +381,7 @@ __attribute__((flatten, noinline)) void integrate_commanded(uint8_t ticks) {
 }
 
 __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
-  kin::JointAngles<Fixed> q;
-  for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
+  const kin::JointAngles<Fixed>& q = g_q.q;
   const kin::ArmTrig<Fixed> trig = kin::arm_trig<Fixed>(q);
 
   const config::Mode mode = g_supervisor.mode();
@@ -440,7 +439,7 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
     g_v_m_s.z = g_v_m_s.z + core::scaled(k, core::scaled(rates.scale, v_cmd.z) - g_v_m_s.z);
   }
   integrate_commanded(ticks);
-  for (uint8_t j = 0; j < 6; ++j) g_q[j].advance(g_qd[j], ticks);
+  for (uint8_t j = 0; j < 6; ++j) g_q.advance(j, g_qd[j], ticks);
   if (g_slot == kStepperRampSlot) {  // the ramps run in this slot
     track_stepper<0>();
     track_stepper<1>();
@@ -453,9 +452,7 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
 // (J3 ended the move to the ready pose 13 mrad short and crept there over 3 s).
 WMRA_COLD void start_running() {
   drives_on();
-  kin::JointAngles<Fixed> q;
-  for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
-  g_p_cmd = kin::hand_position<Fixed>(kin::arm_trig<Fixed>(q));
+  g_p_cmd = kin::hand_position<Fixed>(kin::arm_trig<Fixed>(g_q.q));
   g_drift_ticks = 0;
   g_v_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
@@ -475,7 +472,7 @@ WMRA_COLD void brake_move() {
 WMRA_COLD void brake_tick() {
   bool at_rest = true;
   for (uint8_t i = 0; i < 3; ++i) {
-    g_q[kStepperJoint[i]].set(kStepperMap[i].angle(steppers::rate(i).position_steps()));
+    g_q.set(kStepperJoint[i], kStepperMap[i].angle(steppers::rate(i).position_steps()));
     if (steppers::running(i)) at_rest = false;
   }
   if (at_rest) start_running();
@@ -517,9 +514,7 @@ constexpr uint8_t kHoldingSlot = (kStepperRampSlot + 1) % kDrivePeriod_ticks;
 static_assert(kHoldingPeriod_ticks % kDrivePeriod_ticks == 0, "the holding effort's period is whole servo periods");
 
 WMRA_SMALL void update_holding(bool governor) {
-  kin::JointAngles<Fixed> q;
-  for (uint8_t j = 0; j < 6; ++j) q.q[j] = g_q[j].angle;
-  const core::HoldingEffort holding = core::holding_effort(kin::arm_trig<Fixed>(q));
+  const core::HoldingEffort holding = core::holding_effort(kin::arm_trig<Fixed>(g_q.q));
   // the model plans with the duty beyond the stiction's (the dead-zone inverse's slope), and
   // keeps the reserve's share of what is left after the holding effort for the PID
   constexpr int16_t kUsable_q15 = permille_q15(kDutySlope_permille);
@@ -576,7 +571,7 @@ constexpr int16_t kOneOverTicks[kOverrunTicks + 1] = {0, 32767, 16384, 10923, 81
 __attribute__((noinline)) void run_dc_servo(uint8_t d) {
   DcJoint& dc = g_dc[d];
   const uint8_t ticks = dc.elapsed;
-  const int16_t reference = dc.pot.units(g_q[kDcJoint[d]].angle);
+  const int16_t reference = dc.pot.units(g_q.q.q[kDcJoint[d]]);
   dc.reference_units = reference;
   const int16_t lag = (int16_t)(reference - dc.units);  // [-16384 - 16368, 16383]
   if (lag > dc.lag_fault_units || lag < -dc.lag_fault_units) g_faults |= core::fault_mask(core::kFaultBitTracking);
@@ -826,7 +821,7 @@ WMRA_COLD const Status& status() {
     g_status.q_measured[kStepperJoint[i]] = kStepperMap[i].angle(steppers::rate(i).position_steps());
   for (uint8_t d = 0; d < 3; ++d) g_status.q_measured[kDcJoint[d]] = g_dc[d].pot.angle(g_dc[d].units);
   for (uint8_t j = 0; j < 6; ++j) {
-    g_status.q_ref[j] = g_q[j].angle;
+    g_status.q_ref[j] = g_q.q.q[j];
     g_status.qd_rad_s[j] = g_qd[j];
   }
   g_status.speed_scale_pct = (uint8_t)(((int32_t)g_speed_scale.raw * 100 + 16383) / fx::kUnitOne);
@@ -844,7 +839,7 @@ WMRA_COLD bool store_pose(uint8_t slot) {
   // within the soft stops: a DC joint's reference is where it stood (drives_on), up to a park
   // band past a stop, and load_settings drops a pose beyond one
   for (uint8_t j = 0; j < 6; ++j) {
-    const int32_t a = g_q[j].angle.raw, lo = kLimits.joint[j].soft_min.raw, hi = kLimits.joint[j].soft_max.raw;
+    const int32_t a = g_q.q.q[j].raw, lo = kLimits.joint[j].soft_min.raw, hi = kLimits.joint[j].soft_max.raw;
     g_settings->pose_angle[slot][j] = a < lo ? lo : a > hi ? hi : a;
   }
   g_settings->pose_valid |= (uint8_t)(1 << slot);

@@ -108,10 +108,17 @@ class DcServo {
       if (!still || out_of_band_ >= unpark_ticks_) {
         parked_ = false;
         in_band_ = out_of_band_ = 0;
-        // lifting: the effort it moved with before; lowering (the worm takes the load): none, the
-        // remembered effort pushed J4 off at twice its reference's speed at S1's start (the hand
-        // 5.3 mm below its line after 0.2 s, 3.4 without)
-        if (!still) pid_.preset_integral(lifting_effort_q15(holding_q15, direction == 0 ? 1 : -1) != 0 ? holding_q15_[direction] : (int16_t)0);
+        // lifting: the integral it moved with before, and the effort's ramp starts at the holding
+        // effort (the worm holds the load up to it, so the step moves nothing): from 0, the D
+        // term's kicks at every flip of a noisy pot count moved it down and up a rate step in
+        // turn, and J2 lifted 50-90 ms after J3 and J4 lowered (S2's hand turned 0.9 deg);
+        // lowering (the worm takes the load): none, the remembered effort pushed J4 off at twice
+        // its reference's speed at S1's start (the hand 5.3 mm below its line after 0.2 s, 3.4 without)
+        if (!still) {
+          const bool lifting = lifting_effort_q15(holding_q15, direction == 0 ? 1 : -1) != 0;
+          if (lifting) pid_.start_at_error(e, measured_units, holding_q15);
+          pid_.preset_integral(lifting ? holding_q15_[direction] : (int16_t)0);
+        }
       } else {
         pid_.start_at_error(e, measured_units, 0);
         applied_ = 0;

@@ -12,6 +12,7 @@
 
 #include "kinematics/fixed_point.h"
 #include "kinematics/fixed_trig.h"
+#include "kinematics/forward_kinematics.h"
 
 namespace wmra {
 namespace core {
@@ -105,22 +106,24 @@ inline int32_t ticks_times(int32_t per_tick, uint8_t ticks) {
 // A velocity in rad/s (Q23) as Angle counts per control tick, Q16 (the fraction is carried)
 constexpr Scale kRateToAngleQ16PerTick = scale_for(kAngleCountsPerRad / kRealPerRad / kLoopHz * 65536.0);
 
-// An Angle plus the fraction of a count that the integration carries.
-struct AngleAccumulator {
-  fx::Angle angle;
-  uint16_t fraction;
+// The joints' reference angles plus the fraction of a count that each one's integration
+// carries. The angles are one JointAngles, which the kinematics read in place (a copy of six
+// angles out of {angle, fraction} pairs was ~120 cycles an iteration).
+struct JointReferences {
+  kin::JointAngles<kin::Fixed> q;
+  uint16_t fraction[6];
 
-  void set(fx::Angle a) {
-    angle = a;
-    fraction = 0;
+  void set(uint8_t j, fx::Angle a) {
+    q.q[j] = a;
+    fraction[j] = 0;
   }
   // `ticks` control ticks at qd: the same as one tick at a time (the sum of the per-tick
   // steps is exact, and the floor of the carried fraction composes), at one product
-  void advance(fx::Real qd_rad_s, uint8_t ticks = 1) {
+  void advance(uint8_t j, fx::Real qd_rad_s, uint8_t ticks = 1) {
     const int32_t per_tick_q16 = apply(kRateToAngleQ16PerTick, qd_rad_s.raw);
-    const int32_t delta_q16 = ticks_times(per_tick_q16, ticks) + fraction;
-    angle.raw += delta_q16 >> 16;  // arithmetic shift: floor, the fraction stays in [0, 1)
-    fraction = (uint16_t)delta_q16;
+    const int32_t delta_q16 = ticks_times(per_tick_q16, ticks) + fraction[j];
+    q.q[j].raw += delta_q16 >> 16;  // arithmetic shift: floor, the fraction stays in [0, 1)
+    fraction[j] = (uint16_t)delta_q16;
   }
 };
 

@@ -134,4 +134,30 @@ TEST(DcServo, AMovingReferenceKeepsAJointLessThanACountAheadMoving) {
   EXPECT_GT(duty, 0) << "ahead by more than park_units, the PID stops or reverses the joint";
 }
 
+// A reference that starts lifting a joint at rest, with the pot's noise flipping the reading by
+// a count every sample (a count's worth of noise at a count boundary): the PID's D kicks by
+// several times full effort at each flip, which the effort's rate limit chops to a rate step,
+// down and up in turn, so an effort ramping up from 0 stood still and the joint never started.
+// The worm holds the load up to the holding effort, so the servo may start there: the effort
+// then alternates about it, whose duty here is 5 % above the load's and the stiction's, and the
+// joint lifts a count in 141 ms (without: not within 300 ms).
+TEST(DcServo, ALiftingReferenceStartsTheJointFromItsHoldingEffortThroughNoise) {
+  constexpr int16_t kHolding_q15 = 24000;  // effort for WormJoint's 0.6 duty
+  WormJoint joint{0.6, 3.0, 5000 + kUnitsPerCount / 2};  // at a count boundary
+  core::DcServo servo;
+  ASSERT_TRUE(servo.configure(config()));
+  servo.rest(joint.read());
+  const double start = joint.x;
+  int32_t reference = joint.read();
+  int moved_ms = -1;
+  for (int k = 0; k < 300 && moved_ms < 0; ++k) {
+    reference += 1;  // 1/16 count a tick upwards
+    const int32_t reading = joint.read() + (k % 2 ? kUnitsPerCount : 0);
+    joint.step(servo.update(reference, reading, kHolding_q15 + 1000, kHolding_q15));
+    if (joint.x - start >= kUnitsPerCount) moved_ms = k;
+  }
+  EXPECT_GE(moved_ms, 0) << "the joint never started";
+  EXPECT_LE(moved_ms, 200) << "ms until the joint lifted a count";
+}
+
 }  // namespace
