@@ -140,7 +140,18 @@ class Joystick {
       }
     }
     int16_t target[2] = {0, 0};
-    if (armed_) shape(v[0], v[1], target);
+    if (armed_) {
+      // shaped again only when its input changed: a stick held still (at full deflection the
+      // readings' noise is beyond the saturation) keeps its shape, the reciprocal square root
+      // and the curve's products, ~400 cycles a sample on the AVR
+      if (v[0] != shaped_in_[0] || v[1] != shaped_in_[1]) {
+        shaped_in_[0] = v[0];
+        shaped_in_[1] = v[1];
+        shape(v[0], v[1], shaped_);
+      }
+      target[0] = shaped_[0];
+      target[1] = shaped_[1];
+    }
     for (uint8_t i = 0; i < 2; ++i) out_[i] = ramp(out_[i], target[i], ticks);
     return JoystickOutput{out_[0], out_[1], status()};
   }
@@ -276,6 +287,10 @@ class Joystick {
   uint8_t rail_flags_ = 0;
   uint16_t neutral_count_ = 0;
   int16_t out_[2] = {0, 0};
+  // the last input of shape() and its output; a new configuration is shaped afresh, since
+  // arming shapes the neutral stick's (0, 0) first
+  int16_t shaped_in_[2] = {0, 0};
+  int16_t shaped_[2] = {0, 0};
 };
 
 }  // namespace control
