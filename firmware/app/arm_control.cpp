@@ -173,6 +173,11 @@ int32_t g_gripper_us_q15;  // pulse width, us x 32768
 bool g_gripper_driven;     // the servo has a pulse: the person has moved the gripper since power-up
 Settings* g_settings;
 Status g_status;
+uint16_t g_switches;  // the limit switches closed at the last iteration (inputs.h bits)
+
+bool stick_invalid(const control::JoystickOutput& stick) {
+  return stick.status & (control::kJoystickRailX | control::kJoystickRailY);
+}
 
 // --- drives on and off
 
@@ -717,7 +722,7 @@ void iterate(Requests& rq, uint8_t ticks) {
     g_faults = 0;
     for (uint8_t d = 0; d < 3; ++d) g_servo[d].reset_checks(g_dc_units[d]);
   }
-  const bool stick_valid = !(stick.status & (control::kJoystickRailX | control::kJoystickRailY));
+  const bool stick_valid = !stick_invalid(stick);
   const bool stick_neutral = stick.x_q15 == 0 && stick.y_q15 == 0 && !(stick.status & control::kJoystickCalibrating);
   core::SupervisorInputs in{};
   in.safety_pressed = safety;
@@ -787,17 +792,20 @@ void iterate(Requests& rq, uint8_t ticks) {
 
   rq.stop = rq.rearm = rq.home = false;
   rq.goto_slot = -1;
-
-  g_status.state = state;
-  g_status.mode = g_supervisor.mode();
-  g_status.faults = g_faults | (stick_valid ? 0 : core::fault_mask(core::kFaultBitStickInvalid)) |
-                    (g_overrun_ms > 0 ? core::fault_mask(core::kFaultBitLoopOverrun) : 0);
-  g_status.switches = switches;
-  g_status.stick_q15[0] = stick.x_q15;
-  g_status.stick_q15[1] = stick.y_q15;
+  g_switches = switches;
 }
 
+// The report is put together when it is asked for (a state frame, every 20 ms), from what the
+// last iteration left: not field by field every tick.
 WMRA_COLD const Status& status() {
+  g_status.state = g_supervisor.state();
+  g_status.mode = g_supervisor.mode();
+  const control::JoystickOutput stick = g_stick.output();
+  g_status.faults = g_faults | (stick_invalid(stick) ? core::fault_mask(core::kFaultBitStickInvalid) : 0) |
+                    (g_overrun_ms > 0 ? core::fault_mask(core::kFaultBitLoopOverrun) : 0);
+  g_status.switches = g_switches;
+  g_status.stick_q15[0] = stick.x_q15;
+  g_status.stick_q15[1] = stick.y_q15;
   for (uint8_t i = 0; i < 3; ++i)
     g_status.q_measured[kStepperJoint[i]] = kStepperMap[i].angle(steppers::rate(i).position_steps());
   for (uint8_t d = 0; d < 3; ++d) g_status.q_measured[kDcJoint[d]] = g_pot[d].angle(g_dc_units[d]);

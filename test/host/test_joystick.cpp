@@ -233,7 +233,8 @@ TEST(Joystick, RampsTakeTheSameTimeWhateverTheSampling) {
 // The shape is kept while its input stays (joystick.h): a stick moved, by one axis alone, a
 // count at a time, back and forth, and held, gives after each sample what a new joystick gives
 // for that reading alone (rise and fall within one sample, so the output is the shape itself).
-// Red with the cache keyed on x only; a new curve (below) is shaped afresh after arming.
+// Red with the shape's cache keyed on x only, or the axes' kept readings not forgotten by a
+// calibration (a new centre below); a new curve is shaped afresh after arming.
 TEST(Joystick, KeptShapeEqualsAFreshOne) {
   JoystickConfig c = config();
   c.rise_q15 = c.fall_q15 = 32767;
@@ -257,6 +258,16 @@ TEST(Joystick, KeptShapeEqualsAFreshOne) {
     }
   }
   EXPECT_GT(checked, 800);
+  // a new centre where the stick was (deflected for the old one), then the same held reading
+  hold(j, 560, 460, 3);
+  calibrate_and_arm(j, 560, 460, c);
+  {
+    Joystick f = ready(560, 460, c);
+    const JoystickOutput o = j.update(x, y), r = f.update(x, y);
+    EXPECT_NE(r.x_q15, fresh(c, x, y).x_q15);
+    EXPECT_EQ(o.x_q15, r.x_q15);
+    EXPECT_EQ(o.y_q15, r.y_q15);
+  }
   // a new curve for the same held reading
   JoystickConfig linear = c;
   linear.expo_q15 = 0;
