@@ -168,7 +168,7 @@ bool g_at_target;
 bool g_moving;  // a joint move in running (to a stored pose)
 bool g_braking;  // a move the person took over: its steppers braking to rest before the stick drives
 fx::Angle g_target[6];
-fx::Unit g_speed_scale{(int16_t)fx::kUnitOne};
+fx::Unit g_speed_scale;  // set_speed_scale(): 100 % from start() on
 int32_t g_gripper_us_q15;  // pulse width, us x 32768
 bool g_gripper_driven;     // the servo has a pulse: the person has moved the gripper since power-up
 Settings* g_settings;
@@ -680,6 +680,7 @@ WMRA_COLD void start(Settings& settings) {
   g_settings = &settings;
   configure(settings);
   adc::start(kAdcOrder, sizeof kAdcOrder);
+  set_speed_scale(100);
   g_gripper_us_q15 = (int32_t)kGripperStart_us << 15;
 }
 
@@ -813,14 +814,15 @@ WMRA_COLD const Status& status() {
     g_status.q_ref[j] = g_q[j].angle;
     g_status.qd_rad_s[j] = g_qd[j];
   }
-  g_status.speed_scale_pct = (uint8_t)(((int32_t)g_speed_scale.raw * 100 + 16383) / fx::kUnitOne);
   return g_status;
 }
 
 bool select_mode(config::Mode m) { return g_supervisor.select_mode(m); }
 
+// the report keeps the percent (the scale's percent, rounded, was a 32-bit division a frame)
 void set_speed_scale(uint8_t percent) {
-  g_speed_scale = fx::Unit{(int16_t)((int32_t)(percent > 100 ? 100 : percent) * fx::kUnitOne / 100)};
+  g_status.speed_scale_pct = percent > 100 ? 100 : percent;
+  g_speed_scale = fx::Unit{(int16_t)((int32_t)g_status.speed_scale_pct * fx::kUnitOne / 100)};
 }
 
 WMRA_COLD bool store_pose(uint8_t slot) {
