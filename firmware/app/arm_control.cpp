@@ -177,11 +177,16 @@ bool g_at_target;
 bool g_moving;  // a joint move in running (to a stored pose)
 bool g_braking;  // a move the person took over: its steppers braking to rest before the stick drives
 fx::Angle g_target[6];
-fx::Unit g_speed_scale{(int16_t)fx::kUnitOne};
+fx::Unit g_speed_scale;  // set_speed_scale(): 100 % from start() on
 int32_t g_gripper_us_q15;  // pulse width, us x 32768
 bool g_gripper_driven;     // the servo has a pulse: the person has moved the gripper since power-up
 Settings* g_settings;
 Status g_status;
+uint16_t g_switches;  // the limit switches closed at the last iteration (inputs.h bits)
+
+bool stick_invalid(const control::JoystickOutput& stick) {
+  return stick.status & (control::kJoystickRailX | control::kJoystickRailY);
+}
 
 // --- drives on and off
 
@@ -694,6 +699,7 @@ WMRA_COLD void start(Settings& settings) {
   g_settings = &settings;
   configure(settings);
   adc::start(kAdcOrder, sizeof kAdcOrder);
+  set_speed_scale(100);
   g_gripper_us_q15 = (int32_t)kGripperStart_us << 15;
 }
 
@@ -736,7 +742,7 @@ void iterate(Requests& rq, uint8_t ticks) {
     g_faults = 0;
     for (uint8_t d = 0; d < 3; ++d) g_servo[d].reset_checks(g_dc[d].units);
   }
-  const bool stick_valid = !(stick.status & (control::kJoystickRailX | control::kJoystickRailY));
+  const bool stick_valid = !stick_invalid(stick);
   const bool stick_neutral = stick.x_q15 == 0 && stick.y_q15 == 0 && !(stick.status & control::kJoystickCalibrating);
   core::SupervisorInputs in{};
   in.safety_pressed = safety;
@@ -806,17 +812,20 @@ void iterate(Requests& rq, uint8_t ticks) {
 
   rq.stop = rq.rearm = rq.home = false;
   rq.goto_slot = -1;
-
-  g_status.state = state;
-  g_status.mode = g_supervisor.mode();
-  g_status.faults = g_faults | (stick_valid ? 0 : core::fault_mask(core::kFaultBitStickInvalid)) |
-                    (g_overrun_ms > 0 ? core::fault_mask(core::kFaultBitLoopOverrun) : 0);
-  g_status.switches = switches;
-  g_status.stick_q15[0] = stick.x_q15;
-  g_status.stick_q15[1] = stick.y_q15;
+  g_switches = switches;
 }
 
+// The report is put together when it is asked for (a state frame, every 20 ms), from what the
+// last iteration left: not field by field every tick.
 WMRA_COLD const Status& status() {
+  g_status.state = g_supervisor.state();
+  g_status.mode = g_supervisor.mode();
+  const control::JoystickOutput stick = g_stick.output();
+  g_status.faults = g_faults | (stick_invalid(stick) ? core::fault_mask(core::kFaultBitStickInvalid) : 0) |
+                    (g_overrun_ms > 0 ? core::fault_mask(core::kFaultBitLoopOverrun) : 0);
+  g_status.switches = g_switches;
+  g_status.stick_q15[0] = stick.x_q15;
+  g_status.stick_q15[1] = stick.y_q15;
   for (uint8_t i = 0; i < 3; ++i)
     g_status.q_measured[kStepperJoint[i]] = kStepperMap[i].angle(steppers::rate(i).position_steps());
   for (uint8_t d = 0; d < 3; ++d) g_status.q_measured[kDcJoint[d]] = g_dc[d].pot.angle(g_dc[d].units);
@@ -824,14 +833,15 @@ WMRA_COLD const Status& status() {
     g_status.q_ref[j] = g_q.q.q[j];
     g_status.qd_rad_s[j] = g_qd[j];
   }
-  g_status.speed_scale_pct = (uint8_t)(((int32_t)g_speed_scale.raw * 100 + 16383) / fx::kUnitOne);
   return g_status;
 }
 
 bool select_mode(config::Mode m) { return g_supervisor.select_mode(m); }
 
+// the report keeps the percent (the scale's percent, rounded, was a 32-bit division a frame)
 void set_speed_scale(uint8_t percent) {
-  g_speed_scale = fx::Unit{(int16_t)((int32_t)(percent > 100 ? 100 : percent) * fx::kUnitOne / 100)};
+  g_status.speed_scale_pct = percent > 100 ? 100 : percent;
+  g_speed_scale = fx::Unit{(int16_t)((int32_t)g_status.speed_scale_pct * fx::kUnitOne / 100)};
 }
 
 WMRA_COLD bool store_pose(uint8_t slot) {

@@ -47,11 +47,27 @@ int16_t tenth_mm(fx::Real r) {
 // 32-bit division of ~600 cycles); +-32767 gives +-1000
 int16_t permille(int16_t q15) { return (int16_t)(((int32_t)q15 * 2000 + 32768) >> 16); }
 
-// false when the transmit buffer had no room: the frame is dropped whole
-bool send(MsgType type, const uint8_t* payload, uint8_t length) {
-  uint8_t frame[protocol::kMaxPayload + 7];
-  const uint8_t n = protocol::write_frame((uint8_t)type, g_seq, payload, length, frame);
-  if (!uart::write(frame, n)) return false;
+// The frame being sent, one at a time, its payload in place (at kPayload). A global: its
+// bytes are stored directly (on the stack, 60 to 120 bytes into the frame, each store moved
+// the frame pointer). A state message is written straight into it, field by field: the AVR
+// lays a message out as the wire does (protocol::encode), so it needs no copy (a message on
+// the stack, zeroed and copied, took ~800 cycles a frame).
+union FrameBuffer {
+  uint8_t bytes[protocol::kMaxFrameBytes];
+  struct {
+    uint8_t header[protocol::kHeaderBytes];
+    protocol::StateMsg msg;
+  } state;
+};
+static_assert(sizeof(protocol::StateMsg) == protocol::kStatePayloadBytes, "no padding: the struct is the payload");
+FrameBuffer g_frame;
+uint8_t* const kPayload = g_frame.bytes + protocol::kHeaderBytes;
+
+// g_frame, its payload of `length` bytes in place, to the transmit buffer; false when that had
+// no room: the frame is dropped whole.
+bool send(MsgType type, uint8_t length) {
+  const uint8_t n = protocol::write_frame((uint8_t)type, g_seq, kPayload, length, g_frame.bytes);
+  if (!uart::write(g_frame.bytes, n)) return false;
   ++g_seq;
   return true;
 }
@@ -59,8 +75,7 @@ bool send(MsgType type, const uint8_t* payload, uint8_t length) {
 void reply(const protocol::Frame& f, ReplyStatus status) {
   if (status != ReplyStatus::ok && g_rejected != 0xFFFF) ++g_rejected;
   const protocol::ReplyMsg r{f.type, f.seq, (uint8_t)status};
-  uint8_t payload[protocol::kMaxPayload];
-  send(MsgType::reply, payload, protocol::encode(r, payload));
+  send(MsgType::reply, protocol::encode(r, kPayload));
 }
 
 #ifdef WMRA_TEST_HOOKS
@@ -132,7 +147,7 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
 
 __attribute__((noinline)) void send_state() {
   const Status& s = status();
-  protocol::StateMsg m{};
+  protocol::StateMsg& m = g_frame.state.msg;  // every field is set below
   m.t_ms = tick::now_ms();
   m.state = (uint8_t)s.state;
   m.mode = (uint8_t)s.mode;
@@ -157,14 +172,19 @@ __attribute__((noinline)) void send_state() {
   m.rx_crc_errors = g_parser.crc_errors();
   m.rx_framing_errors = g_parser.framing_errors();
   m.rx_rejected = g_rejected;
-  uint8_t payload[protocol::kMaxPayload];
-  send(MsgType::state, payload, protocol::encode(m, payload));
+  send(MsgType::state, (uint8_t)sizeof m);
   g_loop_cycles_max = 0;
 }
 
 __attribute__((noinline)) void send_calibration() {
-  uint8_t payload[protocol::kMaxPayload];
-  if (send(MsgType::calibration, payload, protocol::encode(calibration(), payload))) g_send_calibration = false;
+  if (send(MsgType::calibration, protocol::encode(calibration(), kPayload))) g_send_calibration = false;
+}
+
+__attribute__((noinline)) void receive(Requests& rq) {
+  uint8_t byte;
+  for (uint8_t n = 0; n < config::kMaxRxBytesPerTick && uart::read(byte); ++n) {
+    if (g_parser.feed(byte)) reply(g_parser.frame(), handle(g_parser.frame(), rq));
+  }
 }
 
 }  // namespace
@@ -172,18 +192,15 @@ __attribute__((noinline)) void send_calibration() {
 void start(uint8_t reset_cause, uint8_t calibration) {
   g_reset_cause = reset_cause;
   const protocol::BootMsg b{reset_cause, calibration};
-  uint8_t payload[protocol::kMaxPayload];
-  send(MsgType::boot, payload, protocol::encode(b, payload));
+  send(MsgType::boot, protocol::encode(b, kPayload));
 }
 
-// handle() and send_state() are not inlined here: the registers they need would be saved and
-// restored on every tick, for a command or a frame that comes every few ticks at most.
+// receive(), handle() and send_state() are not inlined here: the registers they need (the
+// parser's, inlined in receive()) would be saved and restored on every tick, for a command or
+// a frame that comes every few ticks at most.
 void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   if (loop_cycles > g_loop_cycles_max) g_loop_cycles_max = loop_cycles;
-  uint8_t byte;
-  for (uint8_t n = 0; n < config::kMaxRxBytesPerTick && uart::read(byte); ++n) {
-    if (g_parser.feed(byte)) reply(g_parser.frame(), handle(g_parser.frame(), rq));
-  }
+  if (uart::received()) receive(rq);
   if (g_send_calibration) send_calibration();
   if (g_velocity_age_ms < 0xFF00) g_velocity_age_ms = (uint16_t)(g_velocity_age_ms + ticks);
   rq.velocity_fresh = g_velocity_age_ms < protocol::kVelocityTimeout_ms;

@@ -128,7 +128,7 @@ class Joystick {
       return JoystickOutput{0, 0, status()};
     }
     int16_t v[2];
-    for (uint8_t i = 0; i < 2; ++i) v[i] = at_rail[i] ? 0 : dead_zone(normalise(raw[i], i));
+    for (uint8_t i = 0; i < 2; ++i) v[i] = at_rail[i] ? 0 : axis(raw[i], i);
     // arming: neutral (inside the dead zone, both channels valid) for neutral_samples
     const bool neutral = v[0] == 0 && v[1] == 0 && !at_rail[0] && !at_rail[1];
     if (!armed_ || rail_flags_) {
@@ -140,10 +140,24 @@ class Joystick {
       }
     }
     int16_t target[2] = {0, 0};
-    if (armed_) shape(v[0], v[1], target);
+    if (armed_) {
+      // shaped again only when its input changed: a stick held still (at full deflection the
+      // readings' noise is beyond the saturation) keeps its shape, the reciprocal square root
+      // and the curve's products, ~400 cycles a sample on the AVR
+      if (v[0] != shaped_in_[0] || v[1] != shaped_in_[1]) {
+        shaped_in_[0] = v[0];
+        shaped_in_[1] = v[1];
+        shape(v[0], v[1], shaped_);
+      }
+      target[0] = shaped_[0];
+      target[1] = shaped_[1];
+    }
     for (uint8_t i = 0; i < 2; ++i) out_[i] = ramp(out_[i], target[i], ticks);
-    return JoystickOutput{out_[0], out_[1], status()};
+    return output();
   }
+
+  // what the last update() returned
+  JoystickOutput output() const { return JoystickOutput{out_[0], out_[1], status()}; }
 
   uint16_t centre(uint8_t axis) const { return centre_[axis]; }
 
@@ -219,8 +233,19 @@ class Joystick {
       if (c_.full_deflection != 0 && lo_span > c_.full_deflection) lo_span = c_.full_deflection;
       scale_hi_[i] = ratio_q15(128, hi_span);  // 128 * 32768 / span
       scale_lo_[i] = ratio_q15(128, lo_span);
+      axis_raw_[i] = kNoReading;
     }
     calibrated_ = true;
+  }
+
+  // normalised and through the dead zone, again only when the reading changed (a product and
+  // two clamps an axis; the calibration forgets the kept readings)
+  int16_t axis(uint16_t raw, uint8_t i) {
+    if (raw != axis_raw_[i]) {
+      axis_raw_[i] = raw;
+      axis_v_[i] = dead_zone(normalise(raw, i));
+    }
+    return axis_v_[i];
   }
 
   // reading -> [-32767, 32767], each side scaled to its own span
@@ -240,6 +265,7 @@ class Joystick {
   }
 
   int16_t ramp(int16_t current, int16_t target, uint8_t ticks) const {
+    if (current == target) return current;  // held (what the steps below give, without them)
     const int32_t rise = (int32_t)c_.rise_q15 * ticks, fall = (int32_t)c_.fall_q15 * ticks;
     int32_t next;
     if (current > 0 && target < current) {
@@ -276,6 +302,13 @@ class Joystick {
   uint8_t rail_flags_ = 0;
   uint16_t neutral_count_ = 0;
   int16_t out_[2] = {0, 0};
+  static constexpr uint16_t kNoReading = 0xFFFF;  // above any adc_max
+  uint16_t axis_raw_[2] = {kNoReading, kNoReading};  // the last reading of each axis
+  int16_t axis_v_[2] = {0, 0};                        // and what axis() made of it
+  // the last input of shape() and its output; a new configuration is shaped afresh, since
+  // arming shapes the neutral stick's (0, 0) first
+  int16_t shaped_in_[2] = {0, 0};
+  int16_t shaped_[2] = {0, 0};
 };
 
 }  // namespace control

@@ -68,8 +68,9 @@ void save(uint8_t version, const void* data, uint16_t size) {
   g_dirty = true;
 }
 
-void service() {
-  if (!g_dirty || !eeprom_is_ready()) return;
+namespace {
+__attribute__((noinline)) void write_next() {
+  if (!eeprom_is_ready()) return;
   if (g_next == 0) {  // (re)start: the CRC of the data as it is now
     const uint16_t c = crc_of(g_header, g_data, g_size);
     g_crc[0] = (uint8_t)c;
@@ -87,6 +88,12 @@ void service() {
     }
   }
   g_dirty = false;
+}
+}  // namespace
+
+// every tick: the registers write_next() needs are saved only while a write is pending
+void service() {
+  if (g_dirty) write_next();
 }
 
 bool busy() { return g_dirty; }

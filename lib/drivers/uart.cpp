@@ -38,6 +38,8 @@ bool read(uint8_t& byte) {
   return true;
 }
 
+bool received() { return g_rx_tail != g_rx_head; }
+
 bool write(const uint8_t* data, uint8_t count) {
   uint8_t head = g_tx_head;
   const uint8_t used = (uint8_t)(head - g_tx_tail);

@@ -13,6 +13,7 @@ constexpr uint16_t kTxBytes = 256;
 
 void start();
 bool read(uint8_t& byte);
+bool received();  // a byte is waiting
 bool write(const uint8_t* data, uint8_t count);  // false: no room, nothing queued
 uint16_t rx_overruns();  // bytes lost: ring full or the receiver's own overrun
 

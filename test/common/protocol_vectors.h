@@ -90,7 +90,7 @@ constexpr uint8_t kStream[] = {
     0xFF,
 };
 
-// Lines: C the CRC check value; S R B V whole frames of each message; P every frame the
+// Lines: C the CRC check value; S R B V K whole frames of each message; P every frame the
 // parser finds in kStream (type, seq, len, check_command status, payload), then its counters;
 // D the fields of each message decoded back from its frame.
 template <class Put>
@@ -110,6 +110,8 @@ void emit_all(Put& put) {
   bytes_line(put, 'R', frame, write_message(reply, 0x00, frame));
   bytes_line(put, 'B', frame, write_message(boot, 0x80, frame));
   bytes_line(put, 'V', frame, write_message(velocity, 0x7F, frame));
+  const CalibrationMsg calibration = {{100, -200, 300}, {16000, -32768, 32767}, {1, 2, -3}, 0x05};
+  bytes_line(put, 'K', frame, write_message(calibration, 0x42, frame));
 
   Parser parser;
   for (uint8_t b : kStream) {

@@ -20,15 +20,20 @@ JoystickConfig config() {
                         100};   // 0.1 s neutral to arm
 }
 
-// a calibrated, armed joystick with centre (cx, cy)
-Joystick ready(uint16_t cx = 515, uint16_t cy = 505, const JoystickConfig& c = config()) {
-  Joystick j;
+// configures j, calibrates it at centre (cx, cy) and arms it
+void calibrate_and_arm(Joystick& j, uint16_t cx, uint16_t cy, const JoystickConfig& c) {
   EXPECT_TRUE(j.configure(c));
   std::mt19937 rng(1);
   std::uniform_int_distribution<int> noise(-3, 3);
   for (int i = 0; i < 16; ++i) j.update((uint16_t)(cx + noise(rng)), (uint16_t)(cy + noise(rng)));
   for (int i = 0; i < 100; ++i) j.update(cx, cy);
   EXPECT_EQ(j.update(cx, cy).status, 0);
+}
+
+// a calibrated, armed joystick with centre (cx, cy)
+Joystick ready(uint16_t cx = 515, uint16_t cy = 505, const JoystickConfig& c = config()) {
+  Joystick j;
+  calibrate_and_arm(j, cx, cy, c);
   return j;
 }
 
@@ -223,4 +228,52 @@ TEST(Joystick, RampsTakeTheSameTimeWhateverTheSampling) {
     }
   }
   EXPECT_EQ(third.update(512, 512, 3).x_q15, 0);
+}
+
+// The shape is kept while its input stays (joystick.h): a stick moved, by one axis alone, a
+// count at a time, back and forth, and held, gives after each sample what a new joystick gives
+// for that reading alone (rise and fall within one sample, so the output is the shape itself).
+// Red with the shape's cache keyed on x only, or the axes' kept readings not forgotten by a
+// calibration (a new centre below); a new curve is shaped afresh after arming.
+TEST(Joystick, KeptShapeEqualsAFreshOne) {
+  JoystickConfig c = config();
+  c.rise_q15 = c.fall_q15 = 32767;
+  Joystick j = ready(515, 505, c);
+  auto fresh = [&](const JoystickConfig& cf, uint16_t x, uint16_t y) {
+    Joystick f = ready(515, 505, cf);
+    return f.update(x, y);
+  };
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> step(-1, 1), axis(0, 1), repeat(1, 4);
+  uint16_t x = 700, y = 600;
+  int checked = 0;
+  for (int i = 0; i < 400; ++i) {
+    if (axis(rng)) x = (uint16_t)(x + 9 * step(rng));
+    else y = (uint16_t)(y + 9 * step(rng));
+    for (int k = repeat(rng); k > 0; --k) {
+      const JoystickOutput o = j.update(x, y), r = fresh(c, x, y);
+      ASSERT_EQ(o.x_q15, r.x_q15) << x << "," << y;
+      ASSERT_EQ(o.y_q15, r.y_q15) << x << "," << y;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 800);
+  // a new centre where the stick was (deflected for the old one), then the same held reading
+  hold(j, 560, 460, 3);
+  calibrate_and_arm(j, 560, 460, c);
+  {
+    Joystick f = ready(560, 460, c);
+    const JoystickOutput o = j.update(x, y), r = f.update(x, y);
+    EXPECT_NE(r.x_q15, fresh(c, x, y).x_q15);
+    EXPECT_EQ(o.x_q15, r.x_q15);
+    EXPECT_EQ(o.y_q15, r.y_q15);
+  }
+  // a new curve for the same held reading
+  JoystickConfig linear = c;
+  linear.expo_q15 = 0;
+  calibrate_and_arm(j, 515, 505, linear);
+  const JoystickOutput o = j.update(x, y), r = fresh(linear, x, y);
+  EXPECT_NE(r.x_q15, fresh(c, x, y).x_q15);
+  EXPECT_EQ(o.x_q15, r.x_q15);
+  EXPECT_EQ(o.y_q15, r.y_q15);
 }
