@@ -387,7 +387,8 @@ __attribute__((flatten, noinline)) void integrate_commanded(uint8_t ticks) {
 
 __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
   const kin::JointAngles<Fixed>& q = g_q.q;
-  const kin::ArmTrig<Fixed> trig = kin::arm_trig<Fixed>(q);
+  // no joint 6: the twist, the hand's position and J^-1 do not use it (one sine and cosine less)
+  const kin::JacobianTrig<Fixed> trig = kin::jacobian_trig<Fixed>(q);
 
   const config::Mode mode = g_supervisor.mode();
   // initialised from the call (an assignment copied the returned twist, a 24-byte loop)
@@ -457,7 +458,7 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
 // (J3 ended the move to the ready pose 13 mrad short and crept there over 3 s).
 WMRA_COLD void start_running() {
   drives_on();
-  g_p_cmd = kin::hand_position<Fixed>(kin::arm_trig<Fixed>(g_q.q));
+  g_p_cmd = kin::hand_position<Fixed>(kin::jacobian_trig<Fixed>(g_q.q));
   g_drift_ticks = 0;
   g_v_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
@@ -519,7 +520,7 @@ constexpr uint8_t kHoldingSlot = (kStepperRampSlot + 1) % kDrivePeriod_ticks;
 static_assert(kHoldingPeriod_ticks % kDrivePeriod_ticks == 0, "the holding effort's period is whole servo periods");
 
 WMRA_SMALL void update_holding(bool governor) {
-  const core::HoldingEffort holding = core::holding_effort(kin::arm_trig<Fixed>(g_q.q));
+  const core::HoldingEffort holding = core::holding_effort(kin::jacobian_trig<Fixed>(g_q.q));
   // the model plans with the duty beyond the stiction's (the dead-zone inverse's slope), and
   // keeps the reserve's share of what is left after the holding effort for the PID
   constexpr int16_t kUsable_q15 = permille_q15(kDutySlope_permille);

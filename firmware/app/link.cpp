@@ -161,7 +161,7 @@ __attribute__((noinline)) void send_state() {
     m.qd_mrad_s[j] = mrad_s(s.qd_rad_s[j]);
     q.q[j] = s.q_ref[j];
   }
-  const kin::Vec3<fx::Real> p = kin::hand_position<kin::Fixed>(kin::arm_trig<kin::Fixed>(q));
+  const kin::Vec3<fx::Real> p = kin::hand_position<kin::Fixed>(kin::jacobian_trig<kin::Fixed>(q));
   m.p_0p1mm[0] = tenth_mm(p.x);
   m.p_0p1mm[1] = tenth_mm(p.y);
   m.p_0p1mm[2] = tenth_mm(p.z);

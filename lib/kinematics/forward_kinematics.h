@@ -23,9 +23,9 @@ struct JointAngles {
   typename N::Angle q[arm::kJoints];
 };
 
-// Sines and cosines of the joint angles and of the sums that the formulas use. The firmware
-// computes ArmTrig once per control iteration and shares it between the forward kinematics
-// and the inverse Jacobian; each alone needs less (FK no s3, J^-1 nothing of joint 6), and
+// Sines and cosines of the joint angles and of the sums that the formulas use. The firmware's
+// control iteration computes JacobianTrig once and shares it between J^-1 and the hand's
+// position (which needs nothing of joint 6 either); the full pose needs PoseTrig (no s3), and
 // the formulas take any of these structs that has the members they use.
 template <class N>
 struct PoseTrig {
