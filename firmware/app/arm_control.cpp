@@ -97,12 +97,15 @@ constexpr int16_t kInverseSlopeLess1_q16 = (int16_t)(65536.0 * kDcMinDuty_permil
 static_assert(kDcMinDuty_permille * 3 < 1000, "1 / slope - 1 below a half: a Q16 fraction in 16 bits");
 // |duty| <= 32767 in, the effort saturated to +-32767 out: all in 16 bits (the rounded high
 // half of the product is a byte move; the sum's overflow flag saturates it)
-int16_t effort_for_duty(int16_t duty_q15) {
+// (inlined into run_dc_servo, the every-run caller: its call saved and restored registers on
+// both sides; update_holding calls it out of line, seven times)
+inline __attribute__((always_inline)) int16_t effort_for_duty_inline(int16_t duty_q15) {
   const int16_t extra = (int16_t)fx::hi16((uint32_t)(fx::mul_ss(duty_q15, kInverseSlopeLess1_q16) + 32768));
   int16_t effort;
   if (__builtin_add_overflow(duty_q15, extra, &effort)) return duty_q15 < 0 ? (int16_t)-32767 : (int16_t)32767;
   return effort == -32768 ? (int16_t)-32767 : effort;
 }
+__attribute__((noinline)) int16_t effort_for_duty(int16_t duty_q15) { return effort_for_duty_inline(duty_q15); }
 // the inertia's feedforward: duty per change of the reference speed in one tick, Q8 of
 // (Q15 duty per Q23 rad/s) x 2^16: J_worm x gear x loop rate / stall torque at the worm
 constexpr int32_t accel_feedforward_q8(int16_t inertia_gm2, uint8_t d) {
@@ -603,7 +606,9 @@ __attribute__((noinline)) void run_dc_servo(uint8_t d) {
     const DcFeedforward& k = kDcFeedforward[d];
     int32_t duty = qd.raw == 0 ? 0 : ((k.per_speed * qd).raw >> 8) + core::lifting_effort_q15(dc.holding_q15, qd.raw);
     if (accel != 0) duty += fx::mul_ss(accel, slowing ? k.brake_q8 : k.accel_q8) >> 16;
-    feedforward_q15 = effort_for_duty(control::saturate_i16(duty));
+    int16_t duty_q15 = control::saturate_i16(duty);
+    asm("" : "+r"(duty_q15));  // one copy of the conversion below, not one per clamp's branch
+    feedforward_q15 = effort_for_duty_inline(duty_q15);
   }
   bridges::set(d, g_servo[d].update(reference, dc.units, feedforward_q15, dc.holding_effort_q15, ticks));
 }
