@@ -174,7 +174,10 @@ class StepRate {
     int32_t want = want_q8_;
     uint16_t steps_left = kNoStop;
     if (has_target_) {
-      if (!approach_target(dv_q8(ticks), ticks, stepping_dir, want, steps_left)) return StepPlan{0, 0};
+      const Approach a = approach_target(dv_q8(ticks), ticks, stepping_dir);
+      if (a.at_rest) return StepPlan{0, 0};
+      want = a.want_q8;
+      steps_left = a.steps_left;
     } else if ((want > 0 && position_ >= kPositionLimit) || (want < 0 && position_ <= -kPositionLimit)) {
       want = 0;  // the count saturates, never wraps (15 hours at 20 kHz from zero)
     }
@@ -212,28 +215,27 @@ class StepRate {
   const StepRateConstants& constants() const { return k_; }
 
   // kTickHz 256 / (speed_q8 / 256), for speeds in [v_min, v_max]: the table reciprocal of
-  // kinematics/reciprocal.h. speed = M 2^(e-16) with M in [2^15, 2^16): 2^31 / M is the
-  // table's 1/(2m); then kTickHz 2^16 / speed = (kTickHz 2^8) (2^31/M) 2^(-7-e)
+  // kinematics/reciprocal.h. speed = M 2^(e-16) with M in [2^15, 2^16) (h = 2^31 / M from the
+  // table's 1/(2m)), kTickHz 2^16 / speed = floor(kTickHz 2^8 h 2^(-7-e)). The speed is below
+  // 2^24 (v_max^2 < 2^31) and at least 2^8 (kTickHz >= 2^16 below), so it is shifted up by one
+  // or two whole bytes (byte moves) and then by z < 8 bits, e = 32 - 8 bytes - z; the bits'
+  // shift of the result is folded into the product's constant, kTickHz 2^(z+1) from a table:
+  // floor(kTickHz 2^(z+1) h 2^-16), shifted down a byte for speeds from 2^16 (floors compose).
+  // A loop of up to seven 32-bit shifts of the result took ~60 cycles of the ~290.
   __attribute__((always_inline)) uint32_t interval_q8(uint32_t speed_q8) const {
-    uint8_t e = 32;
-    uint32_t v = speed_q8;
-    while (v < (1ul << 24)) {  // whole bytes first (a byte move on the AVR)
-      v <<= 8;
-      e = (uint8_t)(e - 8);
-    }
+    if (speed_q8 < (1ul << 8)) return k_.max_interval_q8;  // below 1 step/s: slower than v_min
+    if (speed_q8 >= (1ul << 24)) return k_.min_interval_q8;  // above v_max
+    const bool one_byte = speed_q8 >= (1ul << 16);
+    uint32_t v = speed_q8 << 8;
+    if (!one_byte) v <<= 8;
+    uint8_t z = 0;
     while (!(v & 0x80000000u)) {
       v <<= 1;
-      --e;
+      ++z;
     }
     const uint16_t h = fx::half_reciprocal_uq16(fx::hi16(v));
-    uint32_t p = mul_hi_u32xu16(kTickHz << 8, h);  // kTickHz 2^8 h / 2^16
-    static_assert(kTickHz < (1ul << 24), "kTickHz 2^8 fits 32 bits");
-    if (e >= 17) {
-      p >>= 8;
-      e = (uint8_t)(e - 8);
-    }
-    for (uint8_t i = 9; i < e; ++i) p >>= 1;
-    for (uint8_t i = e; i < 9; ++i) p <<= 1;
+    uint32_t p = mul_hi_u32xu16(flash_read_u32(tick_hz_shifted() + z), h);
+    if (one_byte) p >>= 8;
     if (p < k_.min_interval_q8) return k_.min_interval_q8;
     return p > k_.max_interval_q8 ? k_.max_interval_q8 : p;
   }
@@ -260,6 +262,14 @@ class StepRate {
     const uint32_t dv = (uint32_t)dv_q8 >> 8, v_max = (uint32_t)k_.v_max_q8 >> 8;
     return dv > v_max ? v_max : dv;
   }
+  // kTickHz 2^(z+1) for z = 0..7 (interval_q8)
+  static const uint32_t* tick_hz_shifted() {
+    static_assert(kTickHz < (1ul << 24), "kTickHz 2^8 fits 32 bits");
+    static_assert(kTickHz >= (1ul << 16), "the slowest interval (65534 ticks) at least 1 step/s: a speed_q8 of 2^8");
+    static const uint32_t table[8] WMRA_FLASH = {kTickHz << 1, kTickHz << 2, kTickHz << 3, kTickHz << 4,
+                                                 kTickHz << 5, kTickHz << 6, kTickHz << 7, kTickHz << 8};
+    return table;
+  }
   // A position move's speed for this tick (magnitude, Q8): up by a dt (to the command) if it
   // can still brake on the target after it, else down by a dt; never below the slowest speed
   // (it would stall short of the target).
@@ -274,22 +284,30 @@ class StepRate {
   }
 
   // The speed change allowed over `ticks` loop periods, < 2^31: accel_too_high bounds it (one
-  // tick without a product: the usual case; two hardware products otherwise, the same value
-  // modulo 2^32 as the 32-bit library product)
+  // tick, or two: the ramps' period while the stick drives, without a product; two hardware
+  // products otherwise, the same value modulo 2^32 as the 32-bit library product)
   int32_t dv_q8(uint8_t ticks) const {
-    return ticks == 1 ? (int32_t)k_.dv_q8_per_tick : mul_i32_u8((int32_t)k_.dv_q8_per_tick, ticks);
+    const int32_t dv = (int32_t)k_.dv_q8_per_tick;
+    return ticks == 1 ? dv : ticks == 2 ? dv + dv : mul_i32_u8(dv, ticks);
   }
-  // A position move's wanted speed (signed, into want) and the steps the ISR may still make
-  // (steps_left); false: at rest on the target. Not inlined: the speed commands of running
-  // (the usual ticks) then keep their registers for themselves.
-  __attribute__((noinline)) bool approach_target(int32_t dv, uint8_t ticks, int8_t stepping_dir, int32_t& want,
-                                                 uint16_t& steps_left) {
+  // A position move's wanted speed (signed) and the steps the ISR may still make; at_rest: on
+  // the target. Not inlined: the speed commands of running (the usual ticks) then keep their
+  // registers for themselves; returned by value (in registers: references to the caller's
+  // want and steps left kept them in its stack frame, loaded and stored every tick).
+  struct Approach {
+    int32_t want_q8;
+    uint16_t steps_left;
+    bool at_rest;
+  };
+  __attribute__((noinline)) Approach approach_target(int32_t dv, uint8_t ticks, int8_t stepping_dir) {
+    int32_t want = want_q8_;
+    uint16_t steps_left = kNoStop;
     const int32_t v = v_q8_;
     const int32_t to_go = target_ - position_;  // both within +-2^30
     const uint32_t d = magnitude_u32(to_go);
     if (d == 0 && stepping_dir == 0) {
       v_q8_ = 0;  // stopped on the target (by the ISR's count): at rest there
-      return false;
+      return Approach{0, 0, true};
     }
     // Stopped by the ISR on the target when it can brake there (with a slack of the
     // tracking's 2 a dt and sqrt(2 a), the braking curve's speed one step out); once so,
@@ -307,7 +325,7 @@ class StepRate {
       if (toward || d == 0) want = 0;
     }
     if (to_go < 0) want = -want;
-    return true;
+    return Approach{want, steps_left, false};
   }
 
   StepRateConstants k_{RateStatus::ok, 0, 0, 0x7FFFFFFF, 0, 0, 0, 0, 0, 0};  // not configured: no speed is fast enough

@@ -155,6 +155,14 @@ void start_channel(uint8_t i, int8_t dir, uint32_t interval_q8, uint16_t left) {
   g_running |= (uint8_t)(1 << i);
 }
 
+// The steps a channel made since its count was `now` (its ISR's steps left), into its ramp.
+inline void count_from(ChannelState& ch, uint16_t now) {
+  const uint16_t made = (uint16_t)(ch.uncounted + (uint16_t)(ch.base - now));
+  ch.uncounted = 0;
+  ch.base = now;
+  if (made != 0) ch.rate.count_steps(ch.dir > 0 ? (int32_t)made : -(int32_t)made);
+}
+
 // The steps a channel (bit: its bit in g_running) made since the last count, into its ramp;
 // returns the direction of the edge it still has scheduled (0: stopped).
 int8_t count_made(ChannelState& ch, uint8_t bit) {
@@ -164,16 +172,33 @@ int8_t count_made(ChannelState& ch, uint8_t bit) {
     now = ch.isr.left;
     running = g_running & bit;
   }
-  const uint16_t made = (uint16_t)(ch.uncounted + (uint16_t)(ch.base - now));
-  ch.uncounted = 0;
-  ch.base = now;
-  ch.rate.count_steps(ch.dir > 0 ? (int32_t)made : -(int32_t)made);
+  count_from(ch, now);
   return running ? ch.dir : 0;
+}
+
+// With interrupts off, a running channel's interval from its next edge on. An edge more than a
+// service period away is moved to one new interval after the last edge (or to at once), so that
+// a speed change never waits behind a long interval (the first ones from rest). Only if it is
+// kRetimeMarginTicks or more ahead: it cannot then match between the counter's read and the
+// write (it would be a step made twice).
+inline void set_interval(uint8_t i, Channel& c, uint32_t interval_q8) {
+  const uint16_t interval = (uint16_t)(interval_q8 >> 8);
+  if (interval != c.interval && c.interval > kTicksPerService) {
+    const uint16_t tcnt = TCNT5;
+    const uint16_t old_edge = pins::ocr16(kPins(i).step);
+    if ((int16_t)(old_edge - tcnt) >= (int16_t)kRetimeMarginTicks) {
+      uint16_t edge = (uint16_t)(old_edge - c.interval + interval);
+      if ((int16_t)(edge - tcnt) < (int16_t)kMinLeadTicks) edge = (uint16_t)(tcnt + kMinLeadTicks);
+      pins::ocr16(kPins(i).step) = edge;
+    }
+  }
+  c.interval = interval;
+  c.interval_frac = (uint8_t)interval_q8;
 }
 
 // Hands the ISR its plan. Steps made since count_made() are counted at the next one (a
 // position move's steps left shrink by them).
-void hand_over(uint8_t i, const control::StepPlan& p, int32_t speed_q8) {
+void hand_over(uint8_t i, uint8_t bit, const control::StepPlan& p, int32_t speed_q8) {
   ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
     if (g_killed) return;
     ChannelState& ch = g_ch[i];
@@ -186,26 +211,9 @@ void hand_over(uint8_t i, const control::StepPlan& p, int32_t speed_q8) {
     const bool arrived = left != Rate::kNoStop && since >= left;
     if (left != Rate::kNoStop && !arrived) left = (uint16_t)(left - since);
     if (p.interval_q8 == 0 || arrived) left = 1;  // the scheduled edge, if any, is the last
-    if (g_running & (1 << i)) {
+    if (g_running & bit) {
       c.left = left;
-      const uint16_t interval = (uint16_t)(p.interval_q8 >> 8);
-      if (p.interval_q8 != 0 && interval != c.interval && c.interval > kTicksPerService) {
-        // An edge more than a service period away: moved to one new interval after the last
-        // edge (or to at once), so that a speed change never waits behind a long interval (the
-        // first ones from rest). Only if it is kRetimeMarginTicks or more ahead: it cannot then
-        // match between the counter's read and the write (it would be a step made twice).
-        const uint16_t tcnt = TCNT5;
-        const uint16_t old_edge = pins::ocr16(kPins(i).step);
-        if ((int16_t)(old_edge - tcnt) >= (int16_t)kRetimeMarginTicks) {
-          uint16_t edge = (uint16_t)(old_edge - c.interval + interval);
-          if ((int16_t)(edge - tcnt) < (int16_t)kMinLeadTicks) edge = (uint16_t)(tcnt + kMinLeadTicks);
-          pins::ocr16(kPins(i).step) = edge;
-        }
-      }
-      if (p.interval_q8 != 0) {
-        c.interval = interval;
-        c.interval_frac = (uint8_t)p.interval_q8;
-      }
+      if (p.interval_q8 != 0) set_interval(i, c, p.interval_q8);
     } else if (p.interval_q8 != 0 && !arrived) {
       start_channel(i, speed_q8 > 0 ? 1 : -1, p.interval_q8, left);
     } else {
@@ -263,9 +271,18 @@ __attribute__((optimize("O3"))) void kill() {
 bool running(uint8_t i) { return g_running & (1 << i); }
 Rate& rate(uint8_t i) { return g_ch[i].rate; }
 
+// The three ISRs' counts read at once (one interrupt lock, not three), at constant addresses
 void count() {
-  uint8_t bit = 1;
-  for (uint8_t i = 0; i < kCount; ++i, bit = (uint8_t)(bit << 1)) count_made(g_ch[i], bit);
+  static_assert(kCount == 3, "one count per channel below");
+  uint16_t now0, now1, now2;
+  ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+    now0 = g_ch[0].isr.left;
+    now1 = g_ch[1].isr.left;
+    now2 = g_ch[2].isr.left;
+  }
+  count_from(g_ch[0], now0);
+  count_from(g_ch[1], now1);
+  count_from(g_ch[2], now2);
 }
 
 // -O3 whatever the file's level: it runs every second iteration, inside the 1 ms (3 x 20 kHz leaves
@@ -277,13 +294,27 @@ __attribute__((optimize("O3"))) void service(uint8_t ticks) {
     const int8_t stepping = count_made(ch, bit);
     if (g_killed) continue;  // the ramps as they were: the caller sees which were moving
     const control::StepPlan p = ch.rate.plan(ticks, stepping);
+    // Stopped and staying so: hand_over would change nothing (no edge, so the ISR's count
+    // stands since count_made; a channel starts only in hand_over)
+    if (stepping == 0 && p.interval_q8 == 0) continue;
+    // A running speed command whose count is far from running out (it stops only at 0): at
+    // most its interval is new, which is all hand_over would change for the ISR (its count set
+    // back to kNoStop matters only once it falls below 0x8000, and then it is). Steps made
+    // meanwhile are counted next time from base.
+    if (stepping != 0 && p.interval_q8 != 0 && p.steps_left == Rate::kNoStop && ch.base >= 0x8000u) {
+      if (p.interval_q8 != ch.handed_q8) {
+        ch.handed_q8 = p.interval_q8;
+        ATOMIC_BLOCK(ATOMIC_RESTORESTATE) {
+          if (!g_killed) set_interval(i, ch.isr, p.interval_q8);
+        }
+      }
+      continue;
+    }
     // Nothing new for a running channel (its interval, and a count that already ends on the
-    // target or is far from running out): the ISR goes on as it is (steps made meanwhile are
-    // counted next time from base).
-    const bool same_count = p.steps_left == Rate::kNoStop ? ch.base >= 0x8000u : p.steps_left == ch.base;
-    if (stepping != 0 && p.interval_q8 == ch.handed_q8 && same_count) continue;
+    // target): the ISR goes on as it is (steps made meanwhile are counted next time from base).
+    if (stepping != 0 && p.interval_q8 == ch.handed_q8 && p.steps_left == ch.base) continue;
     ch.handed_q8 = p.interval_q8;
-    hand_over(i, p, ch.rate.speed_q8());
+    hand_over(i, bit, p, ch.rate.speed_q8());
   }
 }
 

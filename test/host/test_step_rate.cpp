@@ -118,6 +118,36 @@ TEST(StepRate, IntervalIsTheSpeedsReciprocal) {
   EXPECT_EQ(r.interval_q8((uint32_t)k.v_min_q8), 12500u << 8);
 }
 
+// interval_q8 shifts by whole bytes and folds the remaining bits into its product's constant:
+// exactly the table reciprocal scaled by one shift, floor(kTickHz 2^8 h 2^(-7-e)) for speed =
+// M 2^(e-16), h = the table's 2^31 / M, at every speed from 1 step/s (2^8) to 2^24 - 1, for
+// the firmware's range of intervals and the widest one (4 steps/s to 41,666).
+TEST(StepRate, IntervalIsTheTablesReciprocalAtEverySpeed) {
+  for (const StepRateConfig& c : {kFast, StepRateConfig{100000, 6, 65534}}) {
+    Rate r;
+    ASSERT_EQ(r.configure(constants(c)), RateStatus::ok);
+    const StepRateConstants& k = r.constants();
+    int64_t differences = 0;
+    for (uint32_t v = 1u << 8; v < (1u << 24); ++v) {
+      int e = 32;
+      uint32_t m = v;
+      while (!(m & 0x80000000u)) {
+        m <<= 1;
+        --e;
+      }
+      const uint64_t h = wmra::fx::half_reciprocal_uq16((uint16_t)(m >> 16));
+      const uint64_t p = (((uint64_t)kTickHz << 8) * h) >> (e + 7);
+      const uint32_t expected = (uint32_t)std::min<uint64_t>(std::max<uint64_t>(p, k.min_interval_q8), k.max_interval_q8);
+      if (r.interval_q8(v) != expected) ++differences;
+    }
+    EXPECT_EQ(differences, 0) << "max interval " << c.max_interval_ticks;
+    EXPECT_EQ(r.interval_q8(0), k.max_interval_q8) << "below 1 step/s: the slowest interval";
+    EXPECT_EQ(r.interval_q8(255), k.max_interval_q8);
+    EXPECT_EQ(r.interval_q8(1u << 24), k.min_interval_q8) << "beyond any top speed: the shortest";
+    EXPECT_EQ(r.interval_q8(0xFFFFFFFFu), k.min_interval_q8);
+  }
+}
+
 // Per tick the speed changes by at most a dt, except the jump across the band below the slowest
 // speed (rest <-> the slowest speed), which makes no steps, and the stop on a target (from the
 // braking curve one step out, sqrt(2 a), with the tracking's lag: step_rate.h's `stoppable`).
