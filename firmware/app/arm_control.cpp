@@ -185,7 +185,6 @@ int32_t g_gripper_us_q15;  // pulse width, us x 32768
 bool g_gripper_driven;     // the servo has a pulse: the person has moved the gripper since power-up
 Settings* g_settings;
 Status g_status;
-uint16_t g_switches;  // the limit switches closed at the last iteration (inputs.h bits)
 
 bool stick_invalid(const control::JoystickOutput& stick) {
   return stick.status & (control::kJoystickRailX | control::kJoystickRailY);
@@ -718,7 +717,12 @@ void iterate(Requests& rq, uint8_t ticks) {
   // --- inputs
   uint16_t adc[adc::kMaxChannels];
   adc::snapshot(adc);
-  const uint16_t switches = inputs::closed_switches();
+  // the limit switches for homing, which is entered only from wait_neutral: not read while
+  // running or moving to the ready pose (the report reads them itself; a switch hit while
+  // running is the interrupt's event below)
+  const core::ArmState before = g_supervisor.state();
+  const bool homing_possible = before != core::ArmState::running && before != core::ArmState::to_ready;
+  const uint16_t switches = homing_possible ? inputs::closed_switches() : 0;
   const bool safety = inputs::take_safety_event() | inputs::safety_pressed();
   g_ms = (uint16_t)(g_ms + ticks);
   if (ticks > 1) g_overrun_ms = kOverrunReport_ms;
@@ -741,7 +745,6 @@ void iterate(Requests& rq, uint8_t ticks) {
   if (inputs::take_switch_event()) g_faults |= core::fault_mask(core::kFaultBitLimitUnexpected);
 
   // --- supervisor
-  const core::ArmState before = g_supervisor.state();
   const bool long_press = button == control::ButtonEvent::long_press;
   const bool halted = before == core::ArmState::stopped || before == core::ArmState::fault;
   if (halted && (rq.rearm || long_press) && !safety) {
@@ -818,7 +821,6 @@ void iterate(Requests& rq, uint8_t ticks) {
 
   rq.stop = rq.rearm = rq.home = false;
   rq.goto_slot = -1;
-  g_switches = switches;
 }
 
 // The report is put together when it is asked for (a state frame, every 20 ms), from what the
@@ -829,7 +831,7 @@ WMRA_COLD const Status& status() {
   const control::JoystickOutput stick = g_stick.output();
   g_status.faults = g_faults | (stick_invalid(stick) ? core::fault_mask(core::kFaultBitStickInvalid) : 0) |
                     (g_overrun_ms > 0 ? core::fault_mask(core::kFaultBitLoopOverrun) : 0);
-  g_status.switches = g_switches;
+  g_status.switches = inputs::closed_switches();
   g_status.stick_q15[0] = stick.x_q15;
   g_status.stick_q15[1] = stick.y_q15;
   for (uint8_t i = 0; i < 3; ++i)

@@ -79,7 +79,10 @@ __attribute__((optimize("Os"))) HoldingEffort holding_effort(const Trig& t) {
     const int32_t sum_q30 = fx::mul_ss(k.c2, t.c2.raw) + fx::mul_ss(k.s2, t.s2.raw) + fx::mul_ss(k.c23, t.c23.raw) +
                             fx::mul_ss(k.s23, t.s23.raw) + fx::mul_ss(k.c234, t.c234.raw) +
                             fx::mul_ss(k.s234, t.s234.raw) + fx::mul_ss(k.c5c234, c5c234);
-    const int32_t duty = (sum_q30 + 16384) >> 15;
+    // (sum + 2^14) >> 15 by halves: a 32-bit shift by 15 is a loop of 15 steps on the AVR
+    fx::Word32 w;
+    w.s = sum_q30 + 16384;
+    const int32_t duty = (int32_t)w.h.hi * 2 + (w.h.lo >> 15);
     h.duty_q15[d] = (int16_t)(duty > 32767 ? 32767 : duty < -32767 ? -32767 : duty);
   }
   return h;

@@ -269,7 +269,9 @@ __attribute__((optimize("O3"))) void kill() {
 }
 
 bool running(uint8_t i) { return g_running & (1 << i); }
-Rate& rate(uint8_t i) { return g_ch[i].rate; }
+namespace detail {
+Rate* const kRate[kCount] = {&g_ch[0].rate, &g_ch[1].rate, &g_ch[2].rate};
+}
 
 // The three ISRs' counts read at once (one interrupt lock, not three), at constant addresses
 void count() {

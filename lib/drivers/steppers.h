@@ -37,7 +37,10 @@ void enable_drivers(bool on);
 // which were moving, and halts them) and nothing is started until enable_drivers(true).
 void kill();
 bool running(uint8_t i);  // channel i has an edge scheduled
-Rate& rate(uint8_t i);    // main loop only (the ISR never reads it)
+namespace detail {
+extern Rate* const kRate[kCount];  // steppers.cpp's ramps: rate() is a pointer load, not a call
+}
+inline Rate& rate(uint8_t i) { return *detail::kRate[i]; }  // main loop only (the ISR never reads it)
 // `ticks` control periods after the last: steps made counted into the ramps' positions, the
 // ramps advanced, the ISRs given their new intervals.
 void service(uint8_t ticks);
