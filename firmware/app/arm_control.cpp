@@ -164,7 +164,7 @@ int32_t g_lag_slow_units[3], g_lag_stop_units[3];
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
 core::JointReferences g_q;  // joint references
-fx::Real g_qd[6];             // joint reference velocities
+fx::Real (&g_qd)[6] = g_q.qd_rad_s;  // joint reference velocities
 uint8_t g_holding_ticks_left;   // until it is computed again
 bool g_holding_governs;         // the last update set the governor's bounds and drive speeds
 kin::Vec3<fx::Real> g_v_m_s;  // the hand's commanded velocity, as far as g_qd has reached it
@@ -447,7 +447,10 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
     g_v_m_s.z = g_v_m_s.z + core::scaled(k, core::scaled(rates.scale, v_cmd.z) - g_v_m_s.z);
   }
   integrate_commanded(ticks);
-  for (uint8_t j = 0; j < 6; ++j) g_q.advance(j, g_qd[j], ticks);
+  // a tick at a time after an overrun: the same angles and fractions as all the ticks at once
+  // (the per-tick steps sum exactly and the floor of the carried fraction composes), and no
+  // second copy of the pass
+  for (uint8_t i = 0; i < ticks; ++i) g_q.advance_all();
   if (g_slot == kStepperRampSlot) {  // the ramps run in this slot
     track_stepper<0>();
     track_stepper<1>();

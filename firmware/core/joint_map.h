@@ -8,6 +8,7 @@
 // 32 x 16 multiply and a shift (relative error below 2^-14 from rounding m).
 #pragma once
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "kinematics/fixed_point.h"
@@ -106,26 +107,89 @@ inline int32_t ticks_times(int32_t per_tick, uint8_t ticks) {
 // A velocity in rad/s (Q23) as Angle counts per control tick, Q16 (the fraction is carried)
 constexpr Scale kRateToAngleQ16PerTick = scale_for(kAngleCountsPerRad / kRealPerRad / kLoopHz * 65536.0);
 
-// The joints' reference angles plus the fraction of a count that each one's integration
-// carries. The angles are one JointAngles, which the kinematics read in place (a copy of six
-// angles out of {angle, fraction} pairs was ~120 cycles an iteration).
+// The joints' reference angles and velocities, plus the fraction of a count that each angle's
+// integration carries. The angles are one JointAngles, which the kinematics read in place (a
+// copy of six angles out of {angle, fraction} pairs was ~120 cycles an iteration); each
+// velocity lies 24 bytes after its angle, so that the AVR's pass over the six joints reaches
+// both through one pointer (the fractions through the other).
 struct JointReferences {
   kin::JointAngles<kin::Fixed> q;
+  fx::Real qd_rad_s[6];
   uint16_t fraction[6];
 
   void set(uint8_t j, fx::Angle a) {
     q.q[j] = a;
     fraction[j] = 0;
   }
-  // `ticks` control ticks at qd: the same as one tick at a time (the sum of the per-tick
-  // steps is exact, and the floor of the carried fraction composes), at one product
-  void advance(uint8_t j, fx::Real qd_rad_s, uint8_t ticks = 1) {
-    const int32_t per_tick_q16 = apply(kRateToAngleQ16PerTick, qd_rad_s.raw);
-    const int32_t delta_q16 = ticks_times(per_tick_q16, ticks) + fraction[j];
+  // one control tick at qd
+  void advance(uint8_t j, fx::Real qd) {
+    const int32_t delta_q16 = apply(kRateToAngleQ16PerTick, qd.raw) + fraction[j];
     q.q[j].raw += delta_q16 >> 16;  // arithmetic shift: floor, the fraction stays in [0, 1)
     fraction[j] = (uint16_t)delta_q16;
   }
+  // one control tick of every joint at its qd_rad_s: advance(j, qd_rad_s[j]) for each j
+  void advance_all();
 };
+
+static_assert(kRateToAngleQ16PerTick.e == -1 && kRateToAngleQ16PerTick.m > 0,
+              "advance_all's step is apply()'s mul_q16 alone, of a positive factor");
+#if defined(__AVR__)
+// One asm loop (avr-gcc's six-joint loop reloaded its pointers and `ticks` from the stack,
+// ~113 cycles a joint): Z walks the angles (the velocity at Z+24), X the fractions. Per joint
+// fixed_point.h's mul_q16 without the factor's sign (m > 0), the fraction added and stored, the
+// whole counts (bytes 2-3, sign-extended) added to the angle. r1 is restored once, at the end.
+inline void JointReferences::advance_all() {
+  static_assert(offsetof(JointReferences, qd_rad_s) == offsetof(JointReferences, q) + 24, "each velocity 24 bytes after its angle");
+  fx::Angle* angle = q.q;
+  uint16_t* carried = fraction;
+  int32_t x, r;
+  uint8_t t, z, n;
+  asm volatile(
+      "clr   %[z]\n\t"
+      "ldi   %[n], 6\n"
+      "1:\n\t"
+      "ldd   %A[x], Z+24\n\t"
+      "ldd   %B[x], Z+25\n\t"
+      "ldd   %C[x], Z+26\n\t"
+      "ldd   %D[x], Z+27\n\t" WMRA_MUL32X16_SET_ASM(x, c) WMRA_REAL_SIGN_ASM(x, c, 2)
+      "ld    %A[x], X+\n\t"  // + the carried fraction, whose new value is the low half
+      "ld    %B[x], X\n\t"
+      "add   %A[r], %A[x]\n\t"
+      "adc   %B[r], %B[x]\n\t"
+      "adc   %C[r], %[z]\n\t"
+      "adc   %D[r], %[z]\n\t"
+      "st    X, %B[r]\n\t"
+      "st    -X, %A[r]\n\t"
+      "adiw  %A[f], 2\n\t"
+      "clr   %[t]\n\t"  // the high half's sign
+      "sbrc  %D[r], 7\n\t"
+      "com   %[t]\n\t"
+      "ld    %A[x], Z\n\t"
+      "ldd   %B[x], Z+1\n\t"
+      "ldd   %C[x], Z+2\n\t"
+      "ldd   %D[x], Z+3\n\t"
+      "add   %A[x], %C[r]\n\t"
+      "adc   %B[x], %D[r]\n\t"
+      "adc   %C[x], %[t]\n\t"
+      "adc   %D[x], %[t]\n\t"
+      "st    Z+, %A[x]\n\t"
+      "st    Z+, %B[x]\n\t"
+      "st    Z+, %C[x]\n\t"
+      "st    Z+, %D[x]\n\t"
+      "dec   %[n]\n\t"
+      "breq  3f\n\t"
+      "rjmp  1b\n"
+      "3:\n\t"
+      "clr   __zero_reg__"
+      : [x] "=&r"(x), [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z), [n] "=&d"(n), [q] "+z"(angle), [f] "+x"(carried)
+      : [c] "r"(kRateToAngleQ16PerTick.m)
+      : "memory");
+}
+#else
+inline void JointReferences::advance_all() {
+  for (uint8_t j = 0; j < 6; ++j) advance(j, qd_rad_s[j]);
+}
+#endif
 
 // A stepper joint: steps per turn of the joint (motor steps x microsteps x reduction).
 // angle() keeps kExtraBits more bits through its product than apply() (whose product, shifted

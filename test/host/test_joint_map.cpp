@@ -6,6 +6,7 @@
 
 #include "config/joints_config.h"
 #include "core/joint_map.h"
+#include "advance_vectors.h"
 #include "kinematics/arm_model.h"
 
 namespace {
@@ -78,6 +79,60 @@ TEST(Scale, ApplyIsTheProductShiftedOnce) {
     const int64_t product = (int64_t)x * s.m - (int64_t)(x & 0xFF) * (s.m & 0xFF);
     const int32_t want = s.e >= 0 ? (int32_t)((uint32_t)(int32_t)(product >> 15) << s.e) : (int32_t)(product >> (15 - s.e));
     if (core::apply(s, x) != want && wrong++ < 5) ADD_FAILURE() << "x " << x << " m " << s.m << " e " << (int)s.e;
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
+}  // namespace
+
+namespace {
+
+// JointReferences::advance_all, whose AVR asm test/avr/fixed_products_avr.cpp checks against the
+// same 64-bit reference: the portable twin over 10^7 seeded joint steps (every 8th velocity an
+// extreme), angles within +-2^30 (the twin's sum is a signed one).
+TEST(JointReferences, AdvanceAllIsTheReferenceStep) {
+  vectors::Lcg rng{20261122u};
+  core::JointReferences refs{};
+  int wrong = 0;
+  uint32_t n = 0;
+  for (int round = 0; round < 10000000 / 6 + 1; ++round) {
+    vectors::AdvancedJoint want[6];
+    for (uint8_t j = 0; j < 6; ++j) {
+      refs.q.q[j].raw = (int32_t)rng.next() >> 2;
+      refs.fraction[j] = (uint16_t)rng.next();
+      refs.qd_rad_s[j].raw = vectors::advance_velocity(rng, n++);
+      want[j] = vectors::reference_advance(refs.q.q[j].raw, refs.fraction[j], refs.qd_rad_s[j].raw);
+    }
+    refs.advance_all();
+    for (uint8_t j = 0; j < 6; ++j) {
+      if ((refs.q.q[j].raw != want[j].q || refs.fraction[j] != want[j].fraction) && wrong++ < 5) {
+        ADD_FAILURE() << "joint " << (int)j << " qd " << refs.qd_rad_s[j].raw << ": " << refs.q.q[j].raw << " / "
+                      << refs.fraction[j] << ", want " << want[j].q << " / " << want[j].fraction;
+      }
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
+// motion_tick integrates `ticks` ticks after an overrun one tick at a time: the same as the
+// product of all of them at once, floor((ticks step + fraction) / 2^16)
+TEST(JointReferences, TicksAtATimeAreTheTicksAtOnce) {
+  vectors::Lcg rng{77u};
+  int wrong = 0;
+  for (uint32_t n = 0; n < 200000; ++n) {
+    core::JointReferences refs{};
+    const uint8_t ticks = (uint8_t)(1 + n % 6);
+    const int32_t qd = vectors::advance_velocity(rng, n) >> 4;
+    const int32_t q0 = (int32_t)rng.next() >> 2;
+    const uint16_t f0 = (uint16_t)rng.next();
+    refs.q.q[0].raw = q0;
+    refs.fraction[0] = f0;
+    refs.qd_rad_s[0].raw = qd;
+    for (uint8_t i = 0; i < ticks; ++i) refs.advance_all();
+    const int64_t sum_q16 = (int64_t)core::apply(core::kRateToAngleQ16PerTick, qd) * ticks + f0;
+    if ((refs.q.q[0].raw != q0 + (int32_t)(sum_q16 >> 16) || refs.fraction[0] != (uint16_t)sum_q16) && wrong++ < 5) {
+      ADD_FAILURE() << "qd " << qd << " ticks " << (int)ticks;
+    }
   }
   EXPECT_EQ(wrong, 0);
 }
