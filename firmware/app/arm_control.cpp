@@ -139,6 +139,52 @@ constexpr uint16_t kHomingSwitch[3] = {1u << 1, 1u << 8, inputs::kJ6ZeroSwitch};
 constexpr uint16_t kSwitchesArmedHoming = kSwitchesArmed & ~(1u << 1) & ~(1u << 8);
 static_assert(kHomingDir[0] > 0 && kHomingDir[1] < 0, "J1 homes to its high switch, J5 to its low one");
 
+// --- the periodic jobs' schedule
+// Every periodic job of the running loop has a fixed phase of one counter, g_phase, which
+// advances by one each iteration (as the drives' slots do: after an overrun no job is skipped
+// and none runs twice), so that no tick carries two of the heavy ones. Measured while the stick
+// drives (XY; R2 about 3,000 cycles more on every tick), per iteration: the drives' slots 11,400
+// (J2, J4) and 12,100 (J3, the stepper ramps and their tracking), the holding effort and the
+// speed governor +3,600 (+2,700 without the governor, which followed every second update), the
+// drift correction's hand position +1,100. With the drift correction's phase counted from
+// start_running() it landed, as it happened, with the holding update (R1 and R2 up to 19,900
+// and 22,300 cycles, against 16,000 a tick) or in the heavier slot. They go to the lighter
+// slot's ticks, each on its own, the speed governor half a period after the holding update it
+// follows (it read the holding duties of the same tick; 4 ticks later it reads the same ones):
+//   phase      0         1       2          3       4          5       6          7
+//   drives     J2, J4    J3, SR  J2, J4     J3, SR  J2, J4     J3, SR  J2, J4     J3, SR
+//   jobs       holding           drift FK           governor           drift FK
+//                                                   (every second time)
+// The state frame (link::poll, every 20 ms after the iteration, about 9,500 cycles) keeps its
+// phase of the clock, not of this counter.
+// The holding effort: the load and with it the drives' speeds change with the pose, slowly: at
+// a joint's top speed the pose moves 16 mrad between updates. The speed governor's bounds and
+// the drives' speeds every second update: between those the angle sums the load depends on (q2,
+// q2 + q3, q2 + q3 + q4) move at most 16, 32 and 58 mrad at the DC joints' speed limits, which
+// changes a holding duty of at most 70 % (J3 stretched) by at most 4 % of full duty, within the
+// 10 % reserve the plan keeps for the PID (kDcDutyReserve_permille). (All of it every 16 ticks,
+// the holding effort itself too, turned the hand in S2 by 0.91 deg where it was 0.78.)
+constexpr uint8_t kHoldingPeriod_ticks = 8;
+// The drift correction's hand position (FK, ~1,100 cycles): its time constant is
+// 1 / kDriftGain_per_s (200 ms), and the error it corrects (fixed-point rounding of the
+// integrated references) grows over seconds.
+constexpr uint8_t kDriftEvery_ticks = 4;
+static_assert(kDriftEvery_ticks * kDriftGain_per_s <= 1000 / 20, "the correction updated 20 times per time constant");
+constexpr uint8_t kSchedulePeriod_ticks = kHoldingPeriod_ticks;
+constexpr uint8_t kLightSlot = (kStepperRampSlot + 1) % kDrivePeriod_ticks;  // the ramps' slot is the heavier
+constexpr uint8_t kHoldingPhase = kLightSlot;
+constexpr uint8_t kDriftPhase = (uint8_t)((kHoldingPhase + kDriftEvery_ticks / 2) % kDriftEvery_ticks);
+static_assert(kSchedulePeriod_ticks % kDrivePeriod_ticks == 0 && kSchedulePeriod_ticks % kDriftEvery_ticks == 0 &&
+                  kHoldingPeriod_ticks == kSchedulePeriod_ticks,
+              "every job's period divides the schedule's");
+constexpr uint8_t kGovernorPhase = (uint8_t)((kHoldingPhase + kSchedulePeriod_ticks / 2) % kSchedulePeriod_ticks);
+static_assert(kHoldingPhase % kDriftEvery_ticks != kDriftPhase && kGovernorPhase % kDriftEvery_ticks != kDriftPhase &&
+                  kGovernorPhase != kHoldingPhase,
+              "the holding update, the speed governor and the drift correction on different ticks");
+static_assert(kHoldingPhase % kDrivePeriod_ticks == kLightSlot && kDriftPhase % kDrivePeriod_ticks == kLightSlot &&
+                  kGovernorPhase % kDrivePeriod_ticks == kLightSlot,
+              "the heavy jobs in the slot without the stepper ramps");
+
 // --- state
 core::Supervisor g_supervisor;
 core::ArmState g_prev_state = core::ArmState::boot;
@@ -158,19 +204,19 @@ struct DcJoint {
   core::PotMap pot;
 };
 DcJoint g_dc[3];
-uint8_t g_slot;            // this iteration's slot of the drives' period (config::kDcServoSlot, kStepperRampSlot)
+uint8_t g_phase;           // this iteration's phase of the schedule (kSchedulePeriod_ticks, below)
+uint8_t g_slot;            // and of the drives' period (config::kDcServoSlot, kStepperRampSlot)
 uint8_t g_ramp_elapsed;    // and since the stepper ramps last ran
 int32_t g_lag_slow_units[3], g_lag_stop_units[3];
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
 core::JointReferences g_q;  // joint references
 fx::Real (&g_qd)[6] = g_q.qd_rad_s;  // joint reference velocities
-uint8_t g_holding_ticks_left;   // until it is computed again
-bool g_holding_governs;         // the last update set the governor's bounds and drive speeds
+bool g_holding_governs;         // the last update is one the speed governor follows (every second)
+bool g_governor_due;            // and the governor has not run since
 kin::Vec3<fx::Real> g_v_m_s;  // the hand's commanded velocity, as far as g_qd has reached it
 kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
 kin::Vec3<fx::Real> g_drift_m_s;  // the drift correction, held between its updates
-uint8_t g_drift_ticks;            // ticks since it was updated
 uint32_t g_faults;            // latched
 uint16_t g_ms;
 uint16_t g_overrun_ms;  // reported while > 0: long enough for telemetry to see one missed tick
@@ -222,6 +268,7 @@ WMRA_COLD void drives_off() {
 // The DC references start at rest where the joints are (a stop at speed left their last speeds,
 // whose change would be one tick's braking feedforward).
 WMRA_COLD void drives_on() {
+  g_governor_due = false;  // not from holding duties of before the drives went off
   for (uint8_t d = 0; d < 3; ++d) {
     g_servo[d].rest(g_dc[d].units);
     g_q.set(kDcJoint[d], g_dc[d].pot.angle(g_dc[d].units));
@@ -410,19 +457,14 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
                      core::scaled(factor, twist.w_rad_s.z)};
   }
 
-  // Drift correction: towards the integrated commanded position. The hand's position (FK,
-  // ~1,000 cycles) every kDriftEvery_ticks only: the correction's time constant is
-  // 1 / kDriftGain_per_s (200 ms), and the error it corrects (fixed-point rounding of the
-  // integrated references) grows over seconds; position and commanded position are sampled
+  // Drift correction: towards the integrated commanded position, the hand's position in its
+  // phases of the schedule only (kDriftPhase); position and commanded position are sampled
   // together, so the held correction has no lag term of its own.
-  constexpr uint8_t kDriftEvery_ticks = 4;
-  static_assert(kDriftEvery_ticks * kDriftGain_per_s <= 1000 / 20, "the correction updated 20 times per time constant");
-  if (g_drift_ticks == 0) {
+  if (g_phase % kDriftEvery_ticks == kDriftPhase) {
     const kin::Vec3<fx::Real> p = kin::hand_position<Fixed>(trig);
     g_drift_m_s = {drift_correction((g_p_cmd.x - p.x).raw), drift_correction((g_p_cmd.y - p.y).raw),
                    drift_correction((g_p_cmd.z - p.z).raw)};
   }
-  g_drift_ticks = (uint8_t)(g_drift_ticks + ticks >= kDriftEvery_ticks ? 0 : g_drift_ticks + ticks);
   // the correction goes into the twist in place (a copy of the twist is a 24-byte loop); the
   // commanded velocity, without it, is what the commanded position integrates
   const kin::Vec3<fx::Real> v_cmd = twist.v_m_s;
@@ -464,7 +506,7 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
 WMRA_COLD void start_running() {
   drives_on();
   g_p_cmd = kin::hand_position<Fixed>(kin::jacobian_trig<Fixed>(g_q.q));
-  g_drift_ticks = 0;
+  g_drift_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};  // what it is with the commanded position where the hand is
   g_v_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
   g_moving = false;
@@ -512,20 +554,16 @@ WMRA_COLD void enter(core::ArmState state) {
   }
 }
 
-// the load and with it the drives' speeds change with the pose, slowly: at a joint's top speed
-// the pose moves 16 mrad between updates. The speed governor's bounds and the drives' speeds
-// every second update: between those the angle sums the load depends on (q2, q2 + q3,
-// q2 + q3 + q4) move at most 16, 32 and 58 mrad at the DC joints' speed limits, which changes a
-// holding duty of at most 70 % (J3 stretched) by at most 4 % of full duty, within the 10 %
-// reserve the plan keeps for the PID (kDcDutyReserve_permille). (All of it every 16 ticks, the
-// holding effort itself too, turned the hand in S2 by 0.91 deg where it was 0.78.)
-constexpr uint8_t kHoldingPeriod_ticks = 8;
-// in a slot without the stepper ramps: the ticks' lengths even out
-constexpr uint8_t kHoldingSlot = (kStepperRampSlot + 1) % kDrivePeriod_ticks;
-static_assert(kHoldingPeriod_ticks % kDrivePeriod_ticks == 0, "the holding effort's period is whole servo periods");
-
-WMRA_SMALL void update_holding(bool governor) {
+WMRA_SMALL void update_holding() {
   const core::HoldingEffort holding = core::holding_effort(kin::jacobian_trig<Fixed>(g_q.q));
+  for (uint8_t d = 0; d < 3; ++d) {
+    const int16_t h = g_dc[d].holding_q15 = holding.duty_q15[d];
+    g_dc[d].holding_effort_q15 = effort_for_duty(h);
+  }
+}
+
+// the speed governor, from the holding duties of the last update
+WMRA_SMALL void update_governor() {
   // the model plans with the duty beyond the stiction's (the dead-zone inverse's slope), and
   // keeps the reserve's share of what is left after the holding effort for the PID
   constexpr int16_t kUsable_q15 = permille_q15(kDutySlope_permille);
@@ -551,9 +589,7 @@ WMRA_SMALL void update_holding(bool governor) {
                                  kRelayDuty_permille <= kDcMinDuty_permille + (int32_t)kDutySlope_permille * kLimitDuty_q15[2] / 32767),
                 "the relay's duty within every DC joint's speed limit");
   for (uint8_t d = 0; d < 3; ++d) {
-    const int16_t h = g_dc[d].holding_q15 = holding.duty_q15[d];
-    g_dc[d].holding_effort_q15 = effort_for_duty(h);
-    if (!governor) continue;
+    const int16_t h = g_dc[d].holding_q15;
     // the speed governor: each way, the effort of the speed limit and of the load's lifting
     // (the feedforward's model at the limit speed, without the acceleration's term)
     g_servo[d].set_effort_bounds(
@@ -615,11 +651,14 @@ __attribute__((noinline)) void run_dc_servo(uint8_t d) {
   bridges::set(d, g_servo[d].update(reference, dc.units, feedforward_q15, dc.holding_effort_q15, ticks));
 }
 
-// The DC servos of this iteration's slot.
-void dc_tick(uint8_t slot) {
-  if (slot == kHoldingSlot && g_holding_ticks_left-- == 0) {
-    g_holding_ticks_left = kHoldingPeriod_ticks / kDrivePeriod_ticks - 1;
-    update_holding(g_holding_governs = !g_holding_governs);
+// The DC servos of this iteration's slot, and the holding effort in its phase.
+void dc_tick(uint8_t phase, uint8_t slot) {
+  if (phase == kHoldingPhase) {
+    update_holding();
+    g_governor_due = g_holding_governs = !g_holding_governs;
+  } else if (phase == kGovernorPhase && g_governor_due) {
+    g_governor_due = false;
+    update_governor();
   }
   for (uint8_t d = 0; d < 3; ++d)
     if (kDcServoSlot[d] == slot) run_dc_servo(d);
@@ -736,7 +775,8 @@ void iterate(Requests& rq, uint8_t ticks) {
   // --- checks: every reading, every tick (a jump is a change within a tick: over a servo's
   // period it would let a glitch twice as large through), with the duty its servo applies.
   // The drives' slots advance by iteration: after an overrun no servo is skipped.
-  const uint8_t slot = g_slot = (uint8_t)(g_slot + 1 == kDrivePeriod_ticks ? 0 : g_slot + 1);
+  const uint8_t phase = g_phase = (uint8_t)((g_phase + 1) % kSchedulePeriod_ticks);
+  const uint8_t slot = g_slot = (uint8_t)(phase % kDrivePeriod_ticks);
   for (uint8_t d = 0; d < 3; ++d) {
     // a 16-bit product (10-bit counts x 16): a 32-bit one is a shift loop
     static_assert(1023 * kPositionUnitsPerCount < 32768, "pot units of a 10-bit reading fit 16 bits");
@@ -808,7 +848,7 @@ void iterate(Requests& rq, uint8_t ticks) {
     default:
       break;
   }
-  if (g_supervisor.drives_enabled()) dc_tick(slot);
+  if (g_supervisor.drives_enabled()) dc_tick(phase, slot);
   for (uint8_t d = 0; d < 3; ++d)
     if (kDcServoSlot[d] == slot) g_dc[d].elapsed = 0;
   // the steppers' ramps with this iteration's commands: while running in their slot, the steps
