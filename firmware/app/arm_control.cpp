@@ -444,8 +444,9 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
 
   const config::Mode mode = g_supervisor.mode();
   // initialised from the call (an assignment copied the returned twist, a 24-byte loop)
-  kin::Twist<Fixed> twist = rq.velocity_fresh
-                                ? velocity_twist(rq)
+  // (w in the frame turned by q1, where J^-1 takes it: a telemetry command's turned there)
+  kin::TwistQ1<Fixed> twist = rq.velocity_fresh
+                                ? kin::twist_q1<Fixed>(trig, velocity_twist(rq))
                                 : core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
   if (!rq.velocity_fresh && mode == config::Mode::gripper) {
     gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
@@ -456,8 +457,8 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   // (tested once here: scaled() tests it again for each of the six)
   if (factor.raw != fx::kUnitOne) {
     twist.v_m_s = {core::scaled(factor, twist.v_m_s.x), core::scaled(factor, twist.v_m_s.y), core::scaled(factor, twist.v_m_s.z)};
-    twist.w_rad_s = {core::scaled(factor, twist.w_rad_s.x), core::scaled(factor, twist.w_rad_s.y),
-                     core::scaled(factor, twist.w_rad_s.z)};
+    twist.w_q1_rad_s = {core::scaled(factor, twist.w_q1_rad_s.x), core::scaled(factor, twist.w_q1_rad_s.y),
+                        core::scaled(factor, twist.w_q1_rad_s.z)};
   }
 
   // Drift correction: towards the integrated commanded position, the hand's position in its
