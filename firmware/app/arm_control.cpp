@@ -170,6 +170,7 @@ constexpr uint8_t kHoldingPeriod_ticks = 8;
 // integrated references) grows over seconds.
 constexpr uint8_t kDriftEvery_ticks = 4;
 static_assert(kDriftEvery_ticks * kDriftGain_per_s <= 1000 / 20, "the correction updated 20 times per time constant");
+static_assert(kHandPositionAge_ms >= 2 * kDriftEvery_ticks, "the report takes the drift correction's position after an overrun too");
 constexpr uint8_t kSchedulePeriod_ticks = kHoldingPeriod_ticks;
 constexpr uint8_t kLightSlot = (kStepperRampSlot + 1) % kDrivePeriod_ticks;  // the ramps' slot is the heavier
 constexpr uint8_t kHoldingPhase = kLightSlot;
@@ -217,6 +218,8 @@ bool g_governor_due;            // and the governor has not run since
 kin::Vec3<fx::Real> g_v_m_s;  // the hand's commanded velocity, as far as g_qd has reached it
 kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
 kin::Vec3<fx::Real> g_drift_m_s;  // the drift correction, held between its updates
+kin::Vec3<fx::Real> g_p_hand;  // the drift correction's hand position (FK of the references), for the report
+uint32_t g_p_hand_ms = 0u - kHandPositionAge_ms;  // and tick::now_ms() when it was (none yet: too old)
 uint32_t g_faults;            // latched
 uint16_t g_ms;
 uint16_t g_overrun_ms;  // reported while > 0: long enough for telemetry to see one missed tick
@@ -441,8 +444,9 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
 
   const config::Mode mode = g_supervisor.mode();
   // initialised from the call (an assignment copied the returned twist, a 24-byte loop)
-  kin::Twist<Fixed> twist = rq.velocity_fresh
-                                ? velocity_twist(rq)
+  // (w in the frame turned by q1, where J^-1 takes it: a telemetry command's turned there)
+  kin::TwistQ1<Fixed> twist = rq.velocity_fresh
+                                ? kin::twist_q1<Fixed>(trig, velocity_twist(rq))
                                 : core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
   if (!rq.velocity_fresh && mode == config::Mode::gripper) {
     gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
@@ -453,15 +457,16 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   // (tested once here: scaled() tests it again for each of the six)
   if (factor.raw != fx::kUnitOne) {
     twist.v_m_s = {core::scaled(factor, twist.v_m_s.x), core::scaled(factor, twist.v_m_s.y), core::scaled(factor, twist.v_m_s.z)};
-    twist.w_rad_s = {core::scaled(factor, twist.w_rad_s.x), core::scaled(factor, twist.w_rad_s.y),
-                     core::scaled(factor, twist.w_rad_s.z)};
+    twist.w_q1_rad_s = {core::scaled(factor, twist.w_q1_rad_s.x), core::scaled(factor, twist.w_q1_rad_s.y),
+                        core::scaled(factor, twist.w_q1_rad_s.z)};
   }
 
   // Drift correction: towards the integrated commanded position, the hand's position in its
   // phases of the schedule only (kDriftPhase); position and commanded position are sampled
   // together, so the held correction has no lag term of its own.
   if (g_phase % kDriftEvery_ticks == kDriftPhase) {
-    const kin::Vec3<fx::Real> p = kin::hand_position<Fixed>(trig);
+    const kin::Vec3<fx::Real>& p = g_p_hand = kin::hand_position<Fixed>(trig);
+    g_p_hand_ms = tick::now_ms();
     g_drift_m_s = {drift_correction((g_p_cmd.x - p.x).raw), drift_correction((g_p_cmd.y - p.y).raw),
                    drift_correction((g_p_cmd.z - p.z).raw)};
   }
@@ -880,9 +885,13 @@ WMRA_COLD const Status& status() {
   for (uint8_t i = 0; i < 3; ++i)
     g_status.q_measured[kStepperJoint[i]] = kStepperMap[i].angle(steppers::rate(i).position_steps());
   for (uint8_t d = 0; d < 3; ++d) g_status.q_measured[kDcJoint[d]] = g_dc[d].pot.angle(g_dc[d].units);
-  for (uint8_t j = 0; j < 6; ++j) {
-    g_status.q_ref[j] = g_q.q.q[j];
-    g_status.qd_rad_s[j] = g_qd[j];
+  for (uint8_t j = 0; j < 6; ++j) g_status.qd_rad_s[j] = g_qd[j];
+  // the drift correction's while the stick drives; in the other states and the moves to a pose
+  // (light iterations) the references' FK here
+  if (tick::now_ms() - g_p_hand_ms < kHandPositionAge_ms) {
+    g_status.p_m = g_p_hand;
+  } else {
+    g_status.p_m = kin::hand_position<Fixed>(kin::jacobian_trig<Fixed>(g_q.q));
   }
   return g_status;
 }

@@ -16,6 +16,7 @@
 #include "core/supervisor.h"
 #include "kinematics/fixed_point.h"
 #include "kinematics/fixed_trig.h"
+#include "kinematics/forward_kinematics.h"
 #include "protocol/messages.h"
 
 namespace wmra {
@@ -40,11 +41,18 @@ struct Status {
   uint8_t slowed_by;
   uint16_t switches;
   fx::Angle q_measured[6];
-  fx::Angle q_ref[6];
   fx::Real qd_rad_s[6];
+  // the hand (frame-6 origin) from the references' FK, base frame: while the stick drives the
+  // drift correction's (computed at most kHandPositionAge_ms before), otherwise status()'s own
+  kin::Vec3<fx::Real> p_m;
   int16_t stick_q15[2];
   uint8_t speed_scale_pct;
 };
+
+// The drift correction's FK runs every fourth iteration; an iteration that overran counts a tick
+// more. Its position is reported while younger than this (the state frame took ~1,200 cycles for
+// its own trig and FK, after an iteration that may have left it none).
+constexpr uint8_t kHandPositionAge_ms = 8;
 
 void start(Settings& settings);
 // one control iteration; `ticks` control ticks (1 ms) passed since the last one (more than one:

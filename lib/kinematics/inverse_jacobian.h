@@ -1,5 +1,7 @@
 // Closed-form inverse Jacobian of the seed-2 arm: joint velocities from the velocity of the
-// frame-6 origin and the angular velocity of the hand, both in the base frame.
+// frame-6 origin (base frame) and the angular velocity of the hand, in the base frame
+// (inverse_jacobian) or already in the frame turned by q1 (inverse_jacobian_q1, for a caller
+// that builds it there: the rotation modes, core/stick_twist.h).
 //
 // Derivation (independent of the thesis's Appendix IV, whose column 5 has the wrong sign).
 // Express the twist in the frame turned by q1 about the base axis (x' radial, y' tangential).
@@ -37,6 +39,26 @@ struct Twist {
   Vec3<typename N::Real> v_m_s;    // linear velocity of the frame-6 origin, base frame
   Vec3<typename N::Real> w_rad_s;  // angular velocity, base frame
 };
+
+// The derivation's frame for the angular velocity: w_q1 = Rz(-q1) w, the frame turned by q1
+// (x' radial, y' tangential, z' = z). The linear velocity stays in the base frame: v and the
+// drift correction are commanded there, and J^-1 turns v once either way.
+template <class N>
+struct TwistQ1 {
+  Vec3<typename N::Real> v_m_s;       // linear velocity of the frame-6 origin, base frame
+  Vec3<typename N::Real> w_q1_rad_s;  // angular velocity, frame turned by q1
+};
+
+// w turned back by q1 (N::dot(a, x, b, y) is a x + b y): wx' = c1 w.x + s1 w.y, wy' = c1 w.y - s1 w.x
+template <class N, class Trig>
+Vec3<typename N::Real> angular_velocity_q1(const Trig& t, const Vec3<typename N::Real>& w) {
+  return Vec3<typename N::Real>{N::dot(t.c1, w.x, t.s1, w.y), N::dot(t.c1, w.y, -t.s1, w.x), w.z};
+}
+
+template <class N, class Trig>
+TwistQ1<N> twist_q1(const Trig& t, const Twist<N>& twist) {
+  return TwistQ1<N>{twist.v_m_s, angular_velocity_q1<N>(t, twist.w_rad_s)};
+}
 
 template <class N>
 struct SingularFactors {
@@ -83,12 +105,13 @@ typename N::Real determinant(const SingularFactors<N>& f) {
   return -(((f.c5 * f.s3) * a2a3) * N::to_real(f.r5));
 }
 
+// J^-1 of a twist whose angular velocity is in the frame turned by q1 (TwistQ1).
 // kTurning = false: the twist has no angular velocity (the translation modes), and the terms
 // of w are left out. Bit-identical to kTurning = true with w = 0: a product of a zero Real is
 // zero, and dot(a, 0, b, y) = b y exactly (fixed_point.h; test_kinematics_fixed checks it,
 // test/sim_kinematics on the AVR). It saves seven of J^-1's eleven fused products.
 template <class N, bool kTurning, class Trig>
-JacobianInverse<N> inverse_jacobian_of(const Trig& t, const Twist<N>& twist) {
+JacobianInverse<N> inverse_jacobian_of(const Trig& t, const TwistQ1<N>& twist) {
   static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);
   static constexpr typename N::Band damp_s3 = N::band(arm::kSingularBands.damp_s3);
   static constexpr typename N::Band damp_r5 = N::band(arm::kSingularBands.damp_r5_m);
@@ -104,14 +127,14 @@ JacobianInverse<N> inverse_jacobian_of(const Trig& t, const Twist<N>& twist) {
   const SingularFactors<N> factors = singular_factors<N>(t);
   JacobianInverse<N> out;
 
-  // the twist in the frame turned by q1 (N::dot(a, x, b, y) is a x + b y)
+  // v in the frame turned by q1 (N::dot(a, x, b, y) is a x + b y); w is there already
   const auto& v = twist.v_m_s;
-  const auto& w = twist.w_rad_s;
+  const auto& w = twist.w_q1_rad_s;
   const typename N::Real zero{};
   const auto vx = N::dot(t.c1, v.x, t.s1, v.y);
   const auto vy = N::dot(t.c1, v.y, -t.s1, v.x);
-  const auto wx = kTurning ? N::dot(t.c1, w.x, t.s1, w.y) : zero;
-  const auto wy = kTurning ? N::dot(t.c1, w.y, -t.s1, w.x) : zero;
+  const auto wx = kTurning ? w.x : zero;
+  const auto wy = kTurning ? w.y : zero;
 
   // 1. joint-5 origin velocity v5 = v - w x (d6 z6), with d6 z6 = (c234 c5d6, -s5d6, s234 c5d6);
   //    its y component is vy + c5d6 m with m = wx s234 - w.z c234
@@ -149,23 +172,41 @@ JacobianInverse<N> inverse_jacobian_of(const Trig& t, const Twist<N>& twist) {
   return out;
 }
 
+// The base-frame entry: w turned back by q1 first (the arithmetic J^-1 always did), then the same.
+template <class N, bool kTurning, class Trig>
+JacobianInverse<N> inverse_jacobian_of(const Trig& t, const Twist<N>& twist) {
+  const typename N::Real zero{};
+  return inverse_jacobian_of<N, kTurning>(
+      t, TwistQ1<N>{twist.v_m_s, kTurning ? angular_velocity_q1<N>(t, twist.w_rad_s) : Vec3<typename N::Real>{zero, zero, zero}});
+}
+
 template <class N>
-bool turning(const Twist<N>& twist) {
-  const auto& w = twist.w_rad_s;
+bool turning(const Vec3<typename N::Real>& w) {
   return !(N::is_zero(w.x) && N::is_zero(w.y) && N::is_zero(w.z));
 }
+template <class N>
+bool turning(const Twist<N>& twist) { return turning<N>(twist.w_rad_s); }
+template <class N>
+bool turning(const TwistQ1<N>& twist) { return turning<N>(twist.w_q1_rad_s); }
 
 // Each path a function of its own, flattened: both inlined into one, avr-gcc allocated the
 // turning path's registers worse, and unflattened it left the products out of line where
 // they have many callers (the kinematics bench: ~300 and ~500 cycles more on the AVR).
-template <class N, bool kTurning, class Trig>
-__attribute__((noinline, flatten)) JacobianInverse<N> inverse_jacobian_path(const Trig& t, const Twist<N>& twist) {
+template <class N, bool kTurning, class Trig, class TwistT>
+__attribute__((noinline, flatten)) JacobianInverse<N> inverse_jacobian_path(const Trig& t, const TwistT& twist) {
   return inverse_jacobian_of<N, kTurning>(t, twist);
 }
 
 template <class N, class Trig>
 JacobianInverse<N> inverse_jacobian(const Trig& t, const Twist<N>& twist) {
   // if/return, not ?: (which copies the chosen result, a byte loop on the AVR)
+  if (!turning(twist)) return inverse_jacobian_path<N, false>(t, twist);
+  return inverse_jacobian_path<N, true>(t, twist);
+}
+
+// w in the frame turned by q1: the same paths without turning w back
+template <class N, class Trig>
+JacobianInverse<N> inverse_jacobian_q1(const Trig& t, const TwistQ1<N>& twist) {
   if (!turning(twist)) return inverse_jacobian_path<N, false>(t, twist);
   return inverse_jacobian_path<N, true>(t, twist);
 }

@@ -46,7 +46,8 @@ inline kin::Twist<Fixed> random_twist(Lcg& rng) {
 
 // One line per case: "F" pose (p as 3 x 8 hex digits, R as 9 x 4),
 // "J" joint velocities (6 x 8), det (8) and status (1), "T" the joint velocities of the twist
-// without its angular velocity (6 x 8), and "I" the inverse kinematics of
+// without its angular velocity (6 x 8), "Q" those of the twist with its w taken as in the frame
+// turned by q1 (inverse_jacobian_q1, 6 x 8), and "I" the inverse kinematics of
 // that pose: status (1), count (1) and each solution's angles (6 x 8). put(char) is the sink.
 template <class Put>
 void hex(Put& put, uint32_t v, uint8_t digits) {
@@ -78,6 +79,10 @@ void emit_case(Put& put, const kin::JointAngles<Fixed>& q, const kin::Twist<Fixe
   const auto inv_v = kin::inverse_jacobian<Fixed>(trig, translation);
   put('T');
   for (int i = 0; i < arm::kJoints; ++i) hex(put, (uint32_t)inv_v.qd_rad_s[i].raw, 8);
+  // the entry the rotation modes use: w in the frame turned by q1
+  const auto inv_q1 = kin::inverse_jacobian_q1<Fixed>(trig, kin::TwistQ1<Fixed>{twist.v_m_s, twist.w_rad_s});
+  put('Q');
+  for (int i = 0; i < arm::kJoints; ++i) hex(put, (uint32_t)inv_q1.qd_rad_s[i].raw, 8);
   put(' ');
   const auto ik = kin::inverse_kinematics<Fixed>(pose);
   put('I');

@@ -183,4 +183,49 @@ TEST(InverseJacobianFixed, TranslationPathIsTheGeneralPathBitForBit) {
   EXPECT_GT(singular, 1000);
 }
 
+// The entry that takes w in the frame turned by q1 (the rotation modes' J^-1), against the
+// base-frame entry given the same w turned into the base frame as the firmware did before
+// (c1 wx - s1 wy, s1 wx + c1 wy, fused and floored: up to four steps of 2^-23 off each way and
+// back), and both against the Eigen reference. The base-frame entry is the turned-frame one
+// after w is turned back by q1, bit for bit.
+TEST(InverseJacobianFixed, FrameTurnedByQ1EntryIsTheBaseFrameEntry) {
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> v(-0.15, 0.15), w(-0.8, 0.8);
+  double worst_reference = 0, worst_base = 0, worst_apart = 0;
+  int checked = 0;
+  for (int n = 0; n < kPoses; ++n) {
+    const auto q = ref::random_joints(rng);
+    const auto trig = kin::jacobian_trig<Fixed>(to_fixed(q));
+    const kin::TwistQ1<Fixed> turned{{fx::real(v(rng)), fx::real(v(rng)), fx::real(v(rng))},
+                                     {fx::real(w(rng)), fx::real(w(rng)), fx::real(w(rng))}};
+    const auto& wq = turned.w_q1_rad_s;
+    const kin::Twist<Fixed> base{turned.v_m_s,
+                                 {fx::dot(trig.c1, wq.x, -trig.s1, wq.y), fx::dot(trig.s1, wq.x, trig.c1, wq.y), wq.z}};
+    const auto q1_entry = kin::inverse_jacobian_q1<Fixed>(trig, turned);
+    const auto base_entry = kin::inverse_jacobian<Fixed>(trig, base);
+    const auto base_turned = kin::inverse_jacobian_q1<Fixed>(trig, kin::twist_q1<Fixed>(trig, base));
+    for (int j = 0; j < 6; ++j) ASSERT_EQ(base_entry.qd_rad_s[j].raw, base_turned.qd_rad_s[j].raw) << "pose " << n;
+    ASSERT_EQ(q1_entry.status, base_entry.status);
+    if (q1_entry.status != kin::SingularStatus::ok) continue;
+    // the reference: the base-frame twist from the turned one in double
+    const double c1 = std::cos(fx::to_radians(fx::angle(q[0]))), s1 = std::sin(fx::to_radians(fx::angle(q[0])));
+    const double wx = fx::to_double(wq.x), wy = fx::to_double(wq.y);
+    ref::Vec6 nu;
+    nu << fx::to_double(turned.v_m_s.x), fx::to_double(turned.v_m_s.y), fx::to_double(turned.v_m_s.z), c1 * wx - s1 * wy,
+        s1 * wx + c1 * wy, fx::to_double(wq.z);
+    const ref::Vec6 expected = ref::geometric_jacobian(quantised(q)).partialPivLu().solve(nu);
+    worst_reference = std::max(worst_reference, (to_eigen(q1_entry) - expected).norm() / expected.norm());
+    worst_base = std::max(worst_base, (to_eigen(base_entry) - expected).norm() / expected.norm());
+    worst_apart = std::max(worst_apart, (to_eigen(q1_entry) - to_eigen(base_entry)).norm() / expected.norm());
+    ++checked;
+  }
+  std::printf("J^-1 over %d poses, worst relative error: w in the frame turned by q1 %.2e, turned into the base "
+              "frame first %.2e, the two apart %.2e\n",
+              checked, worst_reference, worst_base, worst_apart);
+  EXPECT_GT(checked, kPoses / 2);
+  EXPECT_LT(worst_reference, 1e-3);
+  EXPECT_LT(worst_base, 1e-3);
+  EXPECT_LT(worst_apart, 1e-3);
+}
+
 }  // namespace

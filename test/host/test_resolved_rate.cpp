@@ -29,9 +29,11 @@ kin::Twist<Fixed> twist(double vx, double vy, double vz, double wx, double wy, d
   return {{fx::real(vx), fx::real(vy), fx::real(vz)}, {fx::real(wx), fx::real(wy), fx::real(wz)}};
 }
 
+// a base-frame twist, its w turned back by q1 as resolved_rate takes it
 core::JointRates rates(const ref::Joints& q, const kin::Twist<Fixed>& t) {
   const auto qf = to_fixed(q);
-  return core::resolved_rate(qf, kin::arm_trig<Fixed>(qf), t, kLimits);
+  const auto trig = kin::arm_trig<Fixed>(qf);
+  return core::resolved_rate(qf, trig, kin::twist_q1<Fixed>(trig, t), kLimits);
 }
 
 double limit_rad_s(int j) { return config::kJointSpeedLimit_crad_s[j] / 100.0; }
@@ -229,6 +231,34 @@ TEST(StickTwist, EveryModeMovesTheHandAsTheSpecSays) {
     EXPECT_LT((nu.head<3>() - c.v).norm(), 2e-4) << (int)c.mode;  // m/s
     EXPECT_LT((nu.tail<3>() - c.w).norm(), 2e-3) << (int)c.mode;  // rad/s
   }
+}
+
+// The rotation modes' w, written out per mode in the frame turned by q1 (stick_twist.h), turned
+// into the base frame in double: the stick's two components times the mode's axes of the DH
+// frame 5, over random poses and deflections.
+TEST(StickTwist, RotationModesTurnAboutTheFrameFiveAxes) {
+  std::mt19937_64 rng(34);
+  std::uniform_real_distribution<double> deflection(-1.0, 1.0);
+  const double wrist = to_double(config::kMaxWristSpeed_rad_s);
+  double worst = 0;
+  for (int n = 0; n < 4000; ++n) {
+    const auto q = ref::random_joints(rng);
+    const auto qf = to_fixed(q);
+    const auto trig = kin::jacobian_trig<Fixed>(qf);
+    const core::Stick stick{fx::unit(deflection(rng)), fx::unit(deflection(rng))};
+    const double sx = config::kStickXSign * fx::to_double(stick.x), sy = config::kStickYSign * fx::to_double(stick.y);
+    const Eigen::Matrix3d r5 = ref::frames(q)[4].block<3, 3>(0, 0);
+    const bool r1 = n % 2 == 0;
+    const auto twist = core::stick_twist(r1 ? config::Mode::r1 : config::Mode::r2, stick, trig);
+    const Eigen::Vector3d expected = r1 ? wrist * (sx * r5.col(1) + sy * r5.col(2)) : wrist * (sy * r5.col(0) + sx * r5.col(1));
+    const double c1 = std::cos(q[0]), s1 = std::sin(q[0]);
+    const double wx = fx::to_double(twist.w_q1_rad_s.x), wy = fx::to_double(twist.w_q1_rad_s.y);
+    const Eigen::Vector3d w(c1 * wx - s1 * wy, s1 * wx + c1 * wy, fx::to_double(twist.w_q1_rad_s.z));
+    worst = std::max(worst, (w - expected).norm());
+    for (const auto& v : {twist.v_m_s.x, twist.v_m_s.y, twist.v_m_s.z}) ASSERT_EQ(v.raw, 0) << "pose " << n;
+  }
+  std::printf("rotation modes' w vs wrist speed times the frame-5 axes: worst %.1e rad/s\n", worst);
+  EXPECT_LT(worst, 2e-4);
 }
 
 }  // namespace
