@@ -692,7 +692,8 @@ constexpr core::DcServoConfig dc_servo_config(uint8_t d) {
                                   (int16_t)(kMaxStep_counts_per_ms * kPositionUnitsPerCount),
                                   (int16_t)(kRailMargin_counts * kPositionUnitsPerCount),
                                   (int16_t)((1023 - kRailMargin_counts) * kPositionUnitsPerCount), (uint8_t)kRailTime_ms},
-      (int16_t)(kDcParkBand_counts * kPositionUnitsPerCount), (uint16_t)kDcParkTime_ms, (uint16_t)kDcUnparkTime_ms};
+      (int16_t)(kDcParkBand_counts * kPositionUnitsPerCount), (uint16_t)kDcParkTime_ms, (uint16_t)kDcUnparkTime_ms,
+      permille_q15(kDcMovingFrictionDuty_permille)};
 }
 constexpr core::DcServoConfig kDcServoConfig[3] = {dc_servo_config(0), dc_servo_config(1), dc_servo_config(2)};
 

@@ -105,6 +105,10 @@ constexpr int16_t kDcDutyReserve_permille = 100;
 // below 1 % effort the duty is 0
 constexpr int16_t kDcRampTime_ms = 50;
 constexpr int16_t kDcMinDuty_permille = 110;
+// once moving, the worm's Coulomb friction takes less (0.8 of 9.12 N m: 9 %); a moving
+// reference's effort is mapped through it in the motion's direction (pid.h's duty_moving).
+// Measure on the arm: the duty at which a joint, moving slowly, coasts to a stop.
+constexpr int16_t kDcMovingFrictionDuty_permille = 88;
 constexpr int16_t kDcZeroBand_permille = 10;
 // park (duty 0: the worm holds) once within this many ADC counts for this long
 constexpr int16_t kDcParkBand_counts = 1;
@@ -159,6 +163,8 @@ static_assert(kPotAtMin_mV > 100 && kPotAtMax_mV < kAdcRef_mV - 100 && kPotAtMin
 static_assert(kDcDutyReserve_permille >= 0 && kDcDutyReserve_permille <= 500, "the duty reserve for the PID: 0..50 %");
 static_assert(kDcRampTime_ms > 0 && kDcMinDuty_permille >= 0 && kDcMinDuty_permille < 500 && kDcZeroBand_permille >= 0,
               "DC duty shaping");
+static_assert(kDcMovingFrictionDuty_permille >= 0 && kDcMovingFrictionDuty_permille <= kDcMinDuty_permille,
+              "the moving friction's duty at most the breakaway's");
 static_assert(kDcParkBand_counts >= 1 && kDcParkTime_ms > 0 && kDcUnparkTime_ms > 0 && kDcUnparkTime_ms <= 100,
               "parking: a band of at least a count, left after at most 100 ms out of it");
 static_assert(kDcFullDutySpeed_crad_s[0] >= 100 && kDcFullDutySpeed_crad_s[1] >= 100 && kDcFullDutySpeed_crad_s[2] >= 100 &&

@@ -8,8 +8,9 @@
 // error stays out of twice the band for unpark_ticks (one noisy reading at a count's edge
 // must not start the motor) or the reference moves; holding with the integral's effort would
 // draw current (about 20 A stretched) for nothing. A moving reference never parks: a slow one
-// would otherwise stop and restart on every pot count (stick-slip); nor does the duty drop below
-// the stiction's while the joint is less than park_units ahead of it (keep_moving).
+// would otherwise stop and restart on every pot count (stick-slip); its effort maps to a duty
+// through the motion's direction (pid.h's duty_moving), continuous through effort 0, so a joint
+// a count ahead slows instead of the duty reversing and the worm stopping it dead.
 //
 // Holding effort: the worm does not let the load drive the joint, so a joint that lifts its
 // load needs a large effort before it moves at all (J3 lifting the stretched forearm and the
@@ -43,6 +44,7 @@ struct DcServoConfig {
   int16_t park_units;  // [0, 16383]: twice it fits 16 bits, and a saturated error compares right with it
   uint16_t park_ticks;
   uint16_t unpark_ticks;  // a standing reference: out of twice the band this long (not a noise spike)
+  int16_t moving_friction_q15;  // the duty the worm's friction takes while the joint moves, [0, pid.min_duty]
 };
 
 class DcServo {
@@ -52,9 +54,13 @@ class DcServo {
     park_units_ = c.park_units;
     park_ticks_ = c.park_ticks;
     unpark_ticks_ = c.unpark_ticks;
-    return pid_.configure(c.pid) == control::PidStatus::ok && relay_.configure(c.relay) == control::RelayStatus::ok &&
+    moving_friction_q15_ = c.moving_friction_q15;
+    const bool ok = pid_.configure(c.pid) == control::PidStatus::ok && relay_.configure(c.relay) == control::RelayStatus::ok &&
            checks_.configure(c.checks) == control::PlausibilityStatus::ok && c.park_units >= 0 &&
-           c.park_units <= 16383;
+           c.park_units <= 16383 && c.moving_friction_q15 >= 0 && c.moving_friction_q15 <= c.pid.min_duty_q15;
+    breakaway_slope_q15_ = pid_.moving_slope_q15(pid_.config().min_duty_q15);
+    moving_slope_q15_ = pid_.moving_slope_q15(moving_friction_q15_);
+    return ok;
   }
 
   // from rest at the measured position (start-up, and after the bridge was switched off)
@@ -75,7 +81,10 @@ class DcServo {
   // its own: a lifting joint stands still up to its holding effort and the stiction's.)
   void set_effort_bounds(int16_t up_q15, int16_t down_q15) {
     pid_.set_effort_bounds(up_q15, down_q15);
-    checks_.set_drive_bounds(pid_.duty_for(up_q15), pid_.duty_for(down_q15));
+    // (the moving map's duties: the lower, which both maps reach at a bound; duty_for's alone
+    // a joint that moves, then jams, never reaches)
+    checks_.set_drive_bounds(control::Pid::duty_moving(up_q15, false, moving_friction_q15_, moving_slope_q15_),
+                             control::Pid::duty_moving(down_q15, false, moving_friction_q15_, moving_slope_q15_));
   }
 
   // The reading of this tick: runs the checks (on the duty applied since the last reading, over
@@ -115,6 +124,8 @@ class DcServo {
         // lowering (the worm takes the load): none, the remembered effort pushed J4 off at twice
         // its reference's speed at S1's start (the hand 5.3 mm below its line after 0.2 s, 3.4 without)
         if (!still) {
+          start_units_ = measured_units;
+          broke_away_ = false;
           const bool lifting = lifting_effort_q15(holding_q15, direction == 0 ? 1 : -1) != 0;
           if (lifting) pid_.start_at_error(e, measured_units, holding_q15);
           pid_.preset_integral(lifting ? holding_q15_[direction] : (int16_t)0);
@@ -132,9 +143,22 @@ class DcServo {
       applied_ = 0;
       return 0;
     }
-    applied_ = use_relay_ ? relay_.update(reference_units, measured_units)
-                            : pid_.update_at_error(e, measured_units, feedforward_q15, ticks);
-    if (!still && !use_relay_) applied_ = keep_moving(applied_, direction, e);
+    // (a moving reference: the friction's compensation in its direction, pid.h's duty_moving)
+    if (use_relay_) applied_ = relay_.update(reference_units, measured_units);
+    else {
+      const int16_t effort = pid_.update_effort(e, measured_units, feedforward_q15, ticks);
+      // the breakaway's duty until the pot shows the joint moved past the park band (two
+      // counts: one is a noisy reading at a count's edge) its way since it left park
+      // (stiction), then the moving friction's (a joint that starts with the moving friction's
+      // 2 % less, J3 lifting in S1, breaks away 30 ms late)
+      if (!broke_away_)
+        broke_away_ = direction == 0 ? measured_units - start_units_ > park_units_
+                                     : start_units_ - measured_units > park_units_;
+      applied_ = still ? pid_.duty_for(effort)
+                 : broke_away_ ? control::Pid::duty_moving(effort, direction != 0, moving_friction_q15_, moving_slope_q15_)
+                               : control::Pid::duty_moving(effort, direction != 0, pid_.config().min_duty_q15,
+                                                           breakaway_slope_q15_);
+    }
     if (!still) holding_q15_[direction] = (int16_t)(pid_.integral_q23() >> 8);
     return applied_;
   }
@@ -143,20 +167,6 @@ class DcServo {
   int16_t applied() const { return applied_; }
 
  private:
-  // A moving reference: the duty stays at least the stiction's in the reference's direction
-  // while the joint is less than park_units ahead of it. The PID's P on a reading that steps a
-  // count at a time pulses the effort by Kp a count (J4: 7 % against the 3 % that lowers it at
-  // 0.2 rad/s), and every pulse into the zero band stopped the worm dead, so J2 and J4, lowering
-  // their loads, went in stops and starts 5-13 mrad wide (the hand 4-6 mm off S1's line, by the
-  // loop's timing). At the stiction's duty the joint moves on at its slowest (J4 0.1 rad/s
-  // against S1's 0.2, J2 0.04 against 0.1), so the reference draws level again; ahead by more
-  // (a reference slower than that), the PID's duty stands: stop or reverse.
-  int16_t keep_moving(int16_t duty_q15, uint8_t direction, int16_t e) const {
-    const int16_t min_q15 = pid_.config().min_duty_q15;
-    if (direction == 0) return duty_q15 < min_q15 && e > -park_units_ ? min_q15 : duty_q15;
-    return duty_q15 > -min_q15 && e < park_units_ ? (int16_t)-min_q15 : duty_q15;
-  }
-
   // update's state first: within the AVR's 64-byte displacement of the object's address (the
   // PID's and the servo's fields each reached through a pointer sum took ~100 cycles a run)
   control::Pid pid_;
@@ -170,6 +180,11 @@ class DcServo {
   int16_t park_units_ = 0;
   uint16_t park_ticks_ = 1;
   uint16_t unpark_ticks_ = 1;
+  int16_t moving_friction_q15_ = 0;
+  uint16_t moving_slope_q15_ = 32768;     // Pid::moving_slope_q15 of the moving friction
+  uint16_t breakaway_slope_q15_ = 32768;  // and of the breakaway's (min_duty)
+  int16_t start_units_ = 0;  // the reading when the servo last left park for a moving reference
+  bool broke_away_ = false;  // and the joint has moved past the park band its way since
   control::Relay relay_;
   control::PlausibilityMonitor checks_;
 };

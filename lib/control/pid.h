@@ -145,6 +145,11 @@ class Pid {
   }
   // the same with the error setpoint - measurement already formed and saturated to +-32767
   int16_t update_at_error(int16_t e, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
+    return duty_for(update_effort(e, measurement, feedforward_q15, samples));
+  }
+  // One sample's effort (Q15, signed), before the dead-zone inverse: a caller that maps it
+  // itself (duty_moving)
+  int16_t update_effort(int16_t e, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
     if (!configured_) return 0;
     int16_t dm = sub_saturated_i16(measurement, m_prev_);
     m_prev_ = measurement;
@@ -189,7 +194,7 @@ class Pid {
       if (e > 0 ? s_trial <= (hi - t_q15) * 256 + 15 : s_trial >= (lo - t_q15) * 256) integral_q23_ = trial;
     }
     effort_ = (int16_t)clamp_i32(((p + integral_q23_ + 128) >> 8) + t_q15, lo, hi);
-    return duty_for(effort_);
+    return effort_;
   }
 
   // Effort -> duty through the dead-zone inverse (also usable alone, e.g. by the relay).
@@ -198,6 +203,28 @@ class Pid {
     if (a == 0 || a < c_.zero_band_q15) return 0;
     const int16_t d = (int16_t)(c_.min_duty_q15 + shr15_to_i16((int32_t)fx::mul_uu((uint16_t)a, slope_q15_)));
     return effort_q15 < 0 ? (int16_t)-d : d;
+  }
+
+  // Effort -> duty for a joint that moves one way (negative: towards -), as it does along a
+  // moving reference. The worm's Coulomb friction opposes the motion whatever the effort's
+  // sign, so its compensation takes the motion's sign and the moving friction's size
+  // (friction_q15, at most the breakaway's min_duty): friction + slope * effort that way,
+  // continuous through effort 0, with slope_q15 = moving_slope_q15(friction_q15) so that full
+  // effort is still full duty (a joint lifting near its drive's limit keeps all of it). An
+  // effort against the motion pushes less than the friction (the joint slows) and reverses the
+  // duty only past friction / slope. duty_for's inverse jumps by twice min_duty where the
+  // effort crosses 0: a P term of more than the effort a slow motion needs (J4: 7 % a pot
+  // count against ~6 %) reversed the duty at each count the joint ran ahead, and the worm,
+  // which does not back-drive, stopped the joint dead (J4 0.22 -> 0.01 rad/s in 15 ms): S1's
+  // 4 Hz ringing. Within [-out_max, out_max] for an effort within the bounds.
+  static int16_t duty_moving(int16_t effort_q15, bool negative, int16_t friction_q15, uint16_t slope_q15) {
+    const int16_t a = negative ? (int16_t)-effort_q15 : effort_q15;
+    const int16_t d = (int16_t)(friction_q15 + (int16_t)(fx::mul_us(slope_q15, a) >> 15));
+    return negative ? (int16_t)-d : d;
+  }
+  // the slope from friction_q15 at effort 0 to out_max at full effort (Q15 of 32768)
+  uint16_t moving_slope_q15(int16_t friction_q15) const {
+    return (uint16_t)(((int32_t)(c_.out_max_q15 - friction_q15) << 15) / c_.out_max_q15);
   }
 
   const PidConfig& config() const { return c_; }

@@ -2,6 +2,7 @@
 // that lifts a load: how it closes the error to a standing reference up and down.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -28,6 +29,7 @@ core::DcServoConfig config() {
   c.park_units = kUnitsPerCount;
   c.park_ticks = 50;
   c.unpark_ticks = 10;
+  c.moving_friction_q15 = 2884;  // 8.8 %: the worm's Coulomb friction
   return c;
 }
 
@@ -73,28 +75,38 @@ TEST(DcServo, AStandingReferenceAheadGetsTheHoldingEffort) {
 
 // A jammed joint under a speed bound: the servo's effort is held at the bound (well below the
 // stall check's 95 %), yet the checks raise a stall: the drive at its bound is saturated. (Before,
-// the bound hid every stall: J3 sat at 39 % duty against a jammed joint, no fault.)
+// the bound hid every stall: J3 sat at 39 % duty against a jammed joint, no fault.) Also when it
+// jams after moving three counts: the moving friction's map then applies, whose duty at the
+// bound is below duty_for's (a drive bound from duty_for: no fault).
 TEST(DcServo, AJammedJointUnderASpeedBoundStalls) {
   const core::DcServoConfig c = config();
-  core::DcServo servo;
-  ASSERT_TRUE(servo.configure(c));
-  servo.set_effort_bounds(10340, 10340);  // J3's bound: its 1 rad/s of 3.56 at full duty, no load
-  const int16_t at = 5000 * kUnitsPerCount / 16;
-  servo.rest(at);
-  servo.reset_checks(at);
-  uint8_t faults = 0;
-  int16_t largest = 0;
-  int stalled_at = -1;
-  for (int k = 0; k < 1000 && stalled_at < 0; ++k) {
-    faults = servo.check(at);
-    if (faults & control::kFaultStall) stalled_at = k;
-    const int16_t duty = servo.update((int16_t)(at + 200), at, 2000);  // a moving reference ahead
-    largest = duty > largest ? duty : largest;
+  for (int16_t moved_counts : {(int16_t)0, (int16_t)3}) {
+    core::DcServo servo;
+    ASSERT_TRUE(servo.configure(c));
+    servo.set_effort_bounds(10340, 10340);  // J3's bound: its 1 rad/s of 3.56 at full duty, no load
+    const int16_t start = 5000 * kUnitsPerCount / 16;
+    servo.rest(start);
+    servo.reset_checks(start);
+    // moving up a count a tick (the reference further ahead), then jammed
+    for (int16_t k = 1; k <= moved_counts; ++k) {
+      servo.check((int16_t)(start + k * kUnitsPerCount));
+      servo.update((int16_t)(start + 200), (int16_t)(start + k * kUnitsPerCount), 2000);
+    }
+    const int16_t at = (int16_t)(start + moved_counts * kUnitsPerCount);
+    uint8_t faults = 0;
+    int16_t largest = 0;
+    int stalled_at = -1;
+    for (int k = 0; k < 1000 && stalled_at < 0; ++k) {
+      faults = servo.check(at);
+      if (faults & control::kFaultStall) stalled_at = k;
+      const int16_t duty = servo.update((int16_t)(at + 200), at, 2000);  // a moving reference ahead
+      largest = duty > largest ? duty : largest;
+    }
+    EXPECT_LT(largest, c.checks.drive_threshold_q15) << "the bound kept the duty below the stall threshold";
+    EXPECT_GE(stalled_at, c.checks.stall_samples) << "moved " << moved_counts << " counts";
+    EXPECT_LE(stalled_at, c.checks.stall_samples + 100) << "ms to the stall fault, moved " << moved_counts << " counts";
+    EXPECT_FALSE(faults & control::kFaultSignError);
   }
-  EXPECT_LT(largest, c.checks.drive_threshold_q15) << "the bound kept the duty below the stall threshold";
-  EXPECT_GE(stalled_at, c.checks.stall_samples);
-  EXPECT_LE(stalled_at, c.checks.stall_samples + 100) << "ms to the stall fault";
-  EXPECT_FALSE(faults & control::kFaultSignError);
 }
 
 // lowering needs no holding effort (the worm takes the load): a standing reference below gets
@@ -110,10 +122,9 @@ TEST(DcServo, AStandingReferenceBelowGetsNoHoldingEffort) {
 }
 
 // A reference lowering the joint with a small feedforward (the load helps a worm down: S1's J2
-// and J4): the PID's P on a reading a fraction of a count ahead outweighs it and took the duty
-// into the zero band or reversed it, and the worm stopped dead. While the joint is less than
-// park_units ahead of a moving reference, the duty stays at least the stiction's along the
-// reference; ahead by more, the PID's duty stands (stop or reverse).
+// and J4): the PID's P on a reading a fraction of a count ahead outweighs it. Mapped through the
+// motion's direction, the duty stays along the reference while the joint is less than a count
+// ahead (it slows, the worm does not stop it dead); ahead by more, it falls below the friction's.
 TEST(DcServo, AMovingReferenceKeepsAJointLessThanACountAheadMoving) {
   core::DcServo servo;
   ASSERT_TRUE(servo.configure(config()));
@@ -123,15 +134,43 @@ TEST(DcServo, AMovingReferenceKeepsAJointLessThanACountAheadMoving) {
   // the reference half a count above the reading, going down by a unit a tick until a count below
   for (int32_t reference = reading + kUnitsPerCount / 2; reference > reading - kUnitsPerCount; --reference) {
     const int16_t duty = servo.update(reference, reading, feedforward_q15, 0);
-    EXPECT_LE(duty, -kMinDuty_q15) << "reference " << reference - reading << " units from the reading";
+    EXPECT_LT(duty, 0) << "reference " << reference - reading << " units from the reading";
   }
   // the joint two counts ahead: the PID's duty, against the motion
+  const core::DcServoConfig c = config();
   core::DcServo ahead;
   ASSERT_TRUE(ahead.configure(config()));
   ahead.rest(reading);
   int16_t duty = 0;
   for (int k = 0; k < 10; ++k) duty = ahead.update(reading + 2 * kUnitsPerCount - k, reading, feedforward_q15, 0);
-  EXPECT_GT(duty, 0) << "ahead by more than park_units, the PID stops or reverses the joint";
+  EXPECT_GT(duty, -c.moving_friction_q15) << "ahead by more than park_units, the duty falls below the friction's: the joint stops";
+}
+
+// A moving reference that the joint runs ahead of: the PID's effort turns from pushing along
+// the motion to braking it. The worm's friction opposes the motion whatever the effort's sign,
+// so the duty passes through the friction's without a step (pid.h's duty_moving); mapped
+// through the effort's sign it jumped by twice the stiction's duty (22 %) where the effort
+// crossed 0, and the worm stopped the joint dead (S1's 4 Hz ringing).
+TEST(DcServo, AMovingReferencesDutyTurnsWithoutAStepWhereItsEffortCrossesZero) {
+  const core::DcServoConfig c = config();
+  core::DcServo servo;
+  ASSERT_TRUE(servo.configure(c));
+  const int16_t reading = 5000;
+  servo.rest(reading);
+  const int16_t feedforward_q15 = -700;  // downwards
+  int16_t last = 0, largest_step = 0;
+  bool pushed = false, braked = false;
+  // the reference from a count below the reading (the joint behind) to four above (ahead)
+  for (int16_t reference = reading - kUnitsPerCount; reference < reading + 4 * kUnitsPerCount; ++reference) {
+    const int16_t duty = servo.update(reference, reading, feedforward_q15, 0);
+    if (pushed) largest_step = std::max<int16_t>(largest_step, (int16_t)std::abs(duty - last));
+    pushed = pushed || duty <= -c.moving_friction_q15;
+    braked = braked || duty > 0;
+    last = duty;
+  }
+  EXPECT_TRUE(pushed && braked) << "the sweep took the duty from pushing down to pushing up";
+  // (mapped through the effort's sign, the duty reversed where the effort crossed 0: 29 %)
+  EXPECT_LT(largest_step, kMinDuty_q15) << "Q15 duty: no step of the stiction's or more";
 }
 
 // A reference that starts lifting a joint at rest, with the pot's noise flipping the reading by
