@@ -22,7 +22,13 @@ constexpr uint16_t kStickCentreTolerance_counts = 60;
 constexpr int16_t kStickDeadZone_permille = 20;  // SPEC 5: about 2 %
 constexpr int16_t kStickExpo_permille = 300;     // response curve (1 - k) r + k r^3
 constexpr uint16_t kStickRise_ms = 300;          // from rest to full deflection, at the least
-constexpr uint16_t kStickFall_ms = 150;          // from full back to rest
+// From full back to rest, as long as the rise: a stop sets the arm swinging on J1's stepper (the
+// rotor on its magnetic spring: 1.6 Hz stretched with the payload, up to 3.5 Hz folded), and a
+// stop that takes half that period or more leaves much less swing. With 150 ms the hand overshot
+// S1's stop by about 0.6 mm more (over noise seeds 1..32). Released at full speed, the hand now
+// comes to rest about 22 mm on (0.15 m/s x 0.3 s / 2) where no joint's acceleration limit already
+// stretches the stop; at S1's pose, J1's already does (25 mm, 23 with 150 ms).
+constexpr uint16_t kStickFall_ms = 300;
 constexpr uint16_t kStickNeutral_ms = 300;
 
 // Joystick button

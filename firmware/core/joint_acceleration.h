@@ -3,7 +3,7 @@
 // joint's change within its limit.
 //
 // Why the references and not only the drives: a stepper's ramp accelerates at its own limit
-// (J1 0.6 rad/s^2, it carries the arm), so a reference that stops in the stick's 150 ms fall
+// (J1 0.6 rad/s^2, it carries the arm), so a reference that stops as fast as the stick's fall
 // runs ahead of the joint, which overshoots and comes back (16 mrad on J1, S8); and a joint that
 // lags its reference while the others do not moves the hand off its line. One k for all joints
 // keeps qd on the straight path in joint space from the old velocity to the new one, so the
