@@ -41,9 +41,11 @@ struct ScenarioRun {
 
 // init: the first scenario line (the true joint angles at power-up); eeprom: what the firmware
 // finds there (empty: blank, so the ready pose is joints_config.h's)
-void run(const std::string& events, ScenarioRun& r, const std::string& init = kInit, const std::vector<uint8_t>& eeprom = {}) {
+void run(const std::string& events, ScenarioRun& r, const std::string& init = kInit, const std::vector<uint8_t>& eeprom = {},
+         uint64_t noise_seed = 1) {
   armsim::RunOptions options;
   options.elf = kFirmware;
+  options.plant.seed = noise_seed;
   options.telemetry = &r.telemetry;
   options.eeprom = eeprom;
   r.result = armsim::run_scenario(armsim::parse_scenario(init + events), options);
@@ -121,26 +123,34 @@ void expect_straight_line(const ScenarioRun& r, double t0, int axis) {
 // and of its drive's planned speed.
 constexpr const char* kPullIn = "6.0 joystick 0 -1\n7.0 joystick 0 0\n";  // in XY, 0.14 m towards the base
 
-// The loop runs at about 830 Hz in iterations of one or two 1 ms ticks, so where the stick's
-// first sample falls within them moves with every change of the code. A line held only at one
-// timing is luck: S1 and S2 are each run with the stick's start (and release) shifted by
-// 0, 2, 5 and 6 x 1.3 ms (the figures still from t0 = 8 s), and every run must meet SPEC 9.
-// (On main before the DC servo kept lowering joints moving, S1 was 4.2, 4.7, 4.0 and 5.9 mm off
-// its axis at these shifts.)
-constexpr int kShifts[] = {0, 2, 5, 6};
+// Where the stick's first sample falls within the ticks moves with every change of the code, and
+// the arm's path is chaotic in its start state: a DC joint that stops a count earlier or later
+// (stiction, a self-locking worm, a pot read in counts) changes everything after it, so two
+// builds that differ only in cycles, or two noise seeds, start S1 from poses a few mrad apart
+// (a 185-cycle delay after the iteration made the plant's angles differ from 0.86 s on and by
+// 5.5 mrad at 8 s). A line held at one start is one draw: S1, S2 and S3-R2 run at noise seeds 1..4 with
+// the stick at 8 s, and at seed 1 with its start (and release) shifted by 2, 5 and 6 x 1.3 ms
+// (the figures still from t0 = 8 s); every run must meet SPEC 9. Over seeds 1..32, S1 measured
+// 3.46-4.57 mm off its axis; before the DC joints' friction compensation followed the motion and
+// the stick's fall took 300 ms, 3.89-5.41 (four seeds over 5 mm), while seed 1 alone passed.
+struct Start {
+  int shift;
+  uint64_t noise_seed;
+};
+constexpr Start kStarts[] = {{0, 1}, {0, 2}, {0, 3}, {0, 4}, {2, 1}, {5, 1}, {6, 1}};
 constexpr double kShiftStep_s = 0.0013;
 
 // the stick at `stick` from 8 s + the shift for 2 s, after the pull-in (and `before`)
 void expect_straight_line_at_shifts(const std::string& before, const char* stick, int axis, int mode) {
-  for (int k : kShifts) {
-    SCOPED_TRACE("stick shifted by " + std::to_string(k) + " x 1.3 ms");
+  for (const Start& l : kStarts) {
+    SCOPED_TRACE("stick shifted by " + std::to_string(l.shift) + " x 1.3 ms, noise seed " + std::to_string(l.noise_seed));
     char events[128];
-    std::snprintf(events, sizeof events, "%.4f joystick %s\n%.4f joystick 0 0\n11.0 end\n", 8.0 + k * kShiftStep_s, stick,
-                  10.0 + k * kShiftStep_s);
+    std::snprintf(events, sizeof events, "%.4f joystick %s\n%.4f joystick 0 0\n11.0 end\n", 8.0 + l.shift * kShiftStep_s,
+                  stick, 10.0 + l.shift * kShiftStep_s);
     ScenarioRun r;
-    run(std::string(kPullIn) + before + events, r);
+    run(std::string(kPullIn) + before + events, r, kInit, {}, l.noise_seed);
     EXPECT_EQ(r.at(9.0).mode, mode);
-    std::printf("shift %d: ", k);
+    std::printf("shift %d, seed %d: ", l.shift, (int)l.noise_seed);
     expect_straight_line(r, 8.0, axis);
     report_after_release(r, 10.0, axis);
   }
@@ -198,16 +208,16 @@ TEST(FirmwareMotion, S3FullStickInR2TurnsTheWristAboutTheHand) {
   char init[96];
   std::snprintf(init, sizeof init, "init 1.45 %.4f %.4f %.4f -1.45 0.05\n", pose[1] * M_PI / 180, pose[2] * M_PI / 180,
                 pose[3] * M_PI / 180);
-  for (int k : kShifts) {
-    SCOPED_TRACE("stick shifted by " + std::to_string(k) + " x 1.3 ms");
+  for (const Start& l : kStarts) {
+    SCOPED_TRACE("stick shifted by " + std::to_string(l.shift) + " x 1.3 ms, noise seed " + std::to_string(l.noise_seed));
     char events[160];
     std::snprintf(events, sizeof events, "6.0 button press\n6.4 button press\n6.8 button press\n%.4f joystick 0 1\n%.4f joystick 0 0\n9.2 end\n",
-                  7.2 + k * kShiftStep_s, 8.7 + k * kShiftStep_s);
+                  7.2 + l.shift * kShiftStep_s, 8.7 + l.shift * kShiftStep_s);
     ScenarioRun r;
-    run(events, r, init, settings_with_ready_pose(pose));
+    run(events, r, init, settings_with_ready_pose(pose), l.noise_seed);
     for (int j = 0; j < 6; ++j) EXPECT_NEAR(r.at(7.2).q[j] * 180 / M_PI, pose[j], 1.0) << "at the stored pose: joint " << j + 1;
     EXPECT_EQ(r.at(7.5).mode, 3) << "R2";
-    std::printf("shift %d: ", k);
+    std::printf("shift %d, seed %d: ", l.shift, (int)l.noise_seed);
     expect_turn_in_place(r, 7.2, 8.7);
     report_after_release(r, 8.7, -1);
   }
