@@ -167,9 +167,11 @@ constexpr uint64_t kIterationTarget_cycles = 8000;
 // integration as one asm loop, the unlimited tick's copy of the velocities as four-byte moves:
 // 12,961 and 20,132. Branch worst13: the periodic jobs at fixed phases of one counter, no two
 // heavy ones on a tick (arm_control.cpp's schedule): 13,118 and 18,301 alone. Both: 13,031 and
-// 19,319 (budgets: + 3 % and + 10 %).
-constexpr double kIterationMeanBudget_cycles = 13420;   // [13,031]
-constexpr uint64_t kIterationMaxBudget_cycles = 21250;  // [19,319]
+// 19,319. Session 14: R1/R2 hand J^-1 w in the frame turned by q1, the state frame without its
+// own FK (branch frame14): 12,786 and 16,565; the DC joints' friction compensation along the
+// motion (ring14, its own state and map): 12,954 and 16,948 (budgets: + 3 % and + 10 %).
+constexpr double kIterationMeanBudget_cycles = 13340;   // [12,954]
+constexpr uint64_t kIterationMaxBudget_cycles = 18640;  // [16,948]
 
 // The stick deflected in XY, XZ and R1 after start-up; every iteration that ends while the
 // stick is deflected counts. The simulator keeps D49's running sums, so each iteration is read
