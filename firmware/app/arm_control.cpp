@@ -70,6 +70,12 @@ constexpr fx::Real accel_per_tick(int16_t crad_s2) { return fx::real(Ratio{crad_
 constexpr fx::Real kMaxSpeedChangePerTick[6] = {accel_per_tick(kJointAccelLimit_crad_s2[0]), accel_per_tick(kJointAccelLimit_crad_s2[1]),
                                                accel_per_tick(kJointAccelLimit_crad_s2[2]), accel_per_tick(kJointAccelLimit_crad_s2[3]),
                                                accel_per_tick(kJointAccelLimit_crad_s2[4]), accel_per_tick(kJointAccelLimit_crad_s2[5])};
+// and per motion pass, which runs every kMotionPeriod_ticks
+constexpr uint8_t kMotionPeriod_ticks = kDrivePeriod_ticks;
+constexpr fx::Real kMaxSpeedChangePerPass[6] = {
+    fx::Real{kMaxSpeedChangePerTick[0].raw * kMotionPeriod_ticks}, fx::Real{kMaxSpeedChangePerTick[1].raw * kMotionPeriod_ticks},
+    fx::Real{kMaxSpeedChangePerTick[2].raw * kMotionPeriod_ticks}, fx::Real{kMaxSpeedChangePerTick[3].raw * kMotionPeriod_ticks},
+    fx::Real{kMaxSpeedChangePerTick[4].raw * kMotionPeriod_ticks}, fx::Real{kMaxSpeedChangePerTick[5].raw * kMotionPeriod_ticks}};
 static_assert(kJointAccelLimit_crad_s2[0] * 10 <= kStepperAccel_crad_s2[0] * 9 &&
                   kJointAccelLimit_crad_s2[4] * 10 <= kStepperAccel_crad_s2[1] * 9 &&
                   kJointAccelLimit_crad_s2[5] * 10 <= kStepperAccel_crad_s2[2] * 9,
@@ -141,21 +147,17 @@ static_assert(kHomingDir[0] > 0 && kHomingDir[1] < 0, "J1 homes to its high swit
 
 // --- the periodic jobs' schedule
 // Every periodic job of the running loop has a fixed phase of one counter, g_phase, which
-// advances by one each iteration (as the drives' slots do: after an overrun no job is skipped
-// and none runs twice), so that no tick carries two of the heavy ones. Measured while the stick
-// drives (XY; R2 about 3,000 cycles more on every tick), per iteration: the drives' slots 11,400
-// (J2, J4) and 12,100 (J3, the stepper ramps and their tracking), the holding effort and the
-// speed governor +3,600 (+2,700 without the governor, which followed every second update), the
-// drift correction's hand position +1,100. With the drift correction's phase counted from
-// start_running() it landed, as it happened, with the holding update (R1 and R2 up to 19,900
-// and 22,300 cycles, against 16,000 a tick) or in the heavier slot. They go to the lighter
-// slot's ticks, each on its own, the speed governor half a period after the holding update it
-// follows (it read the holding duties of the same tick; 4 ticks later it reads the same ones):
-//   phase      0         1       2          3       4          5       6          7
-//   drives     J2, J4    J3, SR  J2, J4     J3, SR  J2, J4     J3, SR  J2, J4     J3, SR
-//   jobs       holding           drift FK           governor           drift FK
-//                                                   (every second time)
-// The state frame (link::poll, every 20 ms after the iteration, about 9,500 cycles) keeps its
+// advances by one each iteration (as the slots do: after an overrun no job is skipped and none
+// runs twice), so that no tick carries two of the heavy ones. The motion pass and the drives'
+// loops alternate (joints_config.h); the holding effort and the speed governor, the drives'
+// plan, go to the drives' ticks, each on its own, the governor half a period after the holding
+// update it follows (it read the holding duties of the same tick; 4 ticks later it reads the
+// same ones); the drift correction's hand position is part of the motion pass, every second one:
+//   phase      0         1         2         3         4          5         6         7
+//   slot       drives    motion    drives    motion    drives     motion    drives    motion
+//   jobs       holding   drift FK                      governor   drift FK
+//                                                      (every second time)
+// The state frame (link::poll, every 20 ms after the iteration, about 6,500 cycles) keeps its
 // phase of the clock, not of this counter.
 // The holding effort: the load and with it the drives' speeds change with the pose, slowly: at
 // a joint's top speed the pose moves 16 mrad between updates. The speed governor's bounds and
@@ -172,9 +174,12 @@ constexpr uint8_t kDriftEvery_ticks = 4;
 static_assert(kDriftEvery_ticks * kDriftGain_per_s <= 1000 / 20, "the correction updated 20 times per time constant");
 static_assert(kHandPositionAge_ms >= 2 * kDriftEvery_ticks, "the report takes the drift correction's position after an overrun too");
 constexpr uint8_t kSchedulePeriod_ticks = kHoldingPeriod_ticks;
-constexpr uint8_t kLightSlot = (kStepperRampSlot + 1) % kDrivePeriod_ticks;  // the ramps' slot is the heavier
-constexpr uint8_t kHoldingPhase = kLightSlot;
-constexpr uint8_t kDriftPhase = (uint8_t)((kHoldingPhase + kDriftEvery_ticks / 2) % kDriftEvery_ticks);
+constexpr uint8_t kDriveSlot = kStepperRampSlot;
+static_assert(kDcServoSlot[0] == kDriveSlot && kDcServoSlot[1] == kDriveSlot && kDcServoSlot[2] == kDriveSlot &&
+                  kDriveSlot != kMotionSlot,
+              "the drives' loops in one slot, the motion pass in another");
+constexpr uint8_t kHoldingPhase = kDriveSlot;
+constexpr uint8_t kDriftPhase = kMotionSlot;
 static_assert(kSchedulePeriod_ticks % kDrivePeriod_ticks == 0 && kSchedulePeriod_ticks % kDriftEvery_ticks == 0 &&
                   kHoldingPeriod_ticks == kSchedulePeriod_ticks,
               "every job's period divides the schedule's");
@@ -182,9 +187,9 @@ constexpr uint8_t kGovernorPhase = (uint8_t)((kHoldingPhase + kSchedulePeriod_ti
 static_assert(kHoldingPhase % kDriftEvery_ticks != kDriftPhase && kGovernorPhase % kDriftEvery_ticks != kDriftPhase &&
                   kGovernorPhase != kHoldingPhase,
               "the holding update, the speed governor and the drift correction on different ticks");
-static_assert(kHoldingPhase % kDrivePeriod_ticks == kLightSlot && kDriftPhase % kDrivePeriod_ticks == kLightSlot &&
-                  kGovernorPhase % kDrivePeriod_ticks == kLightSlot,
-              "the heavy jobs in the slot without the stepper ramps");
+static_assert(kHoldingPhase % kDrivePeriod_ticks == kDriveSlot && kGovernorPhase % kDrivePeriod_ticks == kDriveSlot &&
+                  kDriftPhase % kDrivePeriod_ticks == kMotionSlot && kDriftEvery_ticks % kDrivePeriod_ticks == 0,
+              "the drives' plan in the drives' slot, the drift correction in the motion pass's");
 
 // --- state
 core::Supervisor g_supervisor;
@@ -208,6 +213,7 @@ DcJoint g_dc[3];
 uint8_t g_phase;           // this iteration's phase of the schedule (kSchedulePeriod_ticks, below)
 uint8_t g_slot;            // and of the drives' period (config::kDcServoSlot, kStepperRampSlot)
 uint8_t g_ramp_elapsed;    // and since the stepper ramps last ran
+uint8_t g_motion_elapsed;  // and since the motion pass last ran
 int32_t g_lag_slow_units[3], g_lag_stop_units[3];
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
@@ -479,11 +485,11 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
 
   const core::JointRates rates = core::resolved_rate(q, trig, twist, kLimits, &g_drives);
   g_status.slowed_by = (uint8_t)(rates.slowed_by | (tracking.raw < fx::kUnitOne ? core::kSlowTracking : 0));
-  fx::Real max_change[6];  // one tick's is the table (32-bit products otherwise)
-  if (ticks != 1) {
+  fx::Real max_change[6];  // a pass's is the table (32-bit products otherwise)
+  if (ticks != kMotionPeriod_ticks) {
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
   }
-  const fx::Unit k = core::limit_joint_acceleration(g_qd, rates.qd_rad_s, ticks == 1 ? kMaxSpeedChangePerTick : max_change);
+  const fx::Unit k = core::limit_joint_acceleration(g_qd, rates.qd_rad_s, ticks == kMotionPeriod_ticks ? kMaxSpeedChangePerPass : max_change);
   // the hand's commanded velocity as far as g_qd has reached it; neither limit slowing it (most
   // ticks), g + (v - g) is v itself
   if (k.raw == fx::kUnitOne && rates.scale.raw == fx::kUnitOne) {
@@ -494,15 +500,7 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
     g_v_m_s.z = g_v_m_s.z + core::scaled(k, core::scaled(rates.scale, v_cmd.z) - g_v_m_s.z);
   }
   integrate_commanded(ticks);
-  // a tick at a time after an overrun: the same angles and fractions as all the ticks at once
-  // (the per-tick steps sum exactly and the floor of the carried fraction composes), and no
-  // second copy of the pass
-  for (uint8_t i = 0; i < ticks; ++i) g_q.advance_all();
-  if (g_slot == kStepperRampSlot) {  // the ramps run in this slot
-    track_stepper<0>();
-    track_stepper<1>();
-    track_stepper<2>();
-  }
+  g_q.advance_ticks(ticks);
 }
 
 // Every joint's reference where the joint is: a DC joint that arrived within
@@ -773,6 +771,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   const uint16_t switches = homing_possible ? inputs::closed_switches() : 0;
   const bool safety = inputs::take_safety_event() | inputs::safety_pressed();
   g_ms = (uint16_t)(g_ms + ticks);
+  g_motion_elapsed = control::add_saturated_u8(g_motion_elapsed, ticks);
   if (ticks > 1) g_overrun_ms = kOverrunReport_ms;
   else if (g_overrun_ms > 0) --g_overrun_ms;
   const control::JoystickOutput stick = g_stick.update(adc[kAdcStickX], adc[kAdcStickY], ticks);
@@ -846,14 +845,20 @@ void iterate(Requests& rq, uint8_t ticks) {
         if (g_at_target) start_running();
       } else if (g_braking) {
         brake_tick();
-      } else {
-        motion_tick(stick, rq, ticks);
+      } else if (slot == kMotionSlot) {
+        motion_tick(stick, rq, g_motion_elapsed);
+        g_motion_elapsed = 0;
+      } else {  // the drives' slot: the ramps, run below, follow the references
+        track_stepper<0>();
+        track_stepper<1>();
+        track_stepper<2>();
       }
       break;
     }
     default:
       break;
   }
+  if (state != core::ArmState::running || g_moving || g_braking) g_motion_elapsed = 0;
   if (g_supervisor.drives_enabled()) dc_tick(phase, slot);
   for (uint8_t d = 0; d < 3; ++d)
     if (kDcServoSlot[d] == slot) g_dc[d].elapsed = 0;

@@ -67,18 +67,21 @@ constexpr int16_t kPositionUnitsPerCount = 16;
 constexpr Ratio kDcKp[3] = {{5527, 100000}, {8799, 100000}, {7020, 100000}};
 constexpr Ratio kDcKi_per_s[3] = {{12754, 100000}, {24367, 100000}, {25922, 100000}};
 constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}};
-// The drives' loops run every second control tick, in two slots: the DC servos (feedforward,
-// PID; their pots are checked every tick) of J2 and J4 in one, J3's and the stepper ramps in the other (the ticks'
-// lengths even out). 500 Hz each: twice seed 1's 188 Hz that removed its relay's oscillation,
-// some 20 times the DC joints' bandwidth, and the steppers' ramps move their speed in steps of
-// 2 ms of acceleration. The gains and ramps stay per tick: each loop takes the ticks since its
-// last run. Measured in S1 and S2 at their four stick timings (test_motion_scenarios): the DC
-// servos at 500 Hz on a regular beat follow the lines as well as every tick on a loop that
-// overran one call in five; every third tick did worse (S1 to 5.3 mm: the worm's stick-slip
-// grows with the period).
+// The running loop's two jobs alternate, each every second control tick (500 Hz): the motion
+// pass (twist, J^-1, limits, the joints' references) in one slot, the drives' loops following
+// those references in the other: the DC servos (feedforward, PID; their pots are checked every
+// tick) and the steppers' tracking and ramps. Every output changes at 500 Hz either way, and the
+// pass computed every tick cost half the loop's cycles; the drives read references a tick old
+// (0.2 mrad at J2's 0.2 rad/s, 1/25 of a pot count). 500 Hz: twice seed 1's 188 Hz that
+// removed its relay's oscillation, some 20 times the DC joints' bandwidth, and the steppers'
+// ramps move their speed in steps of 2 ms of acceleration. The gains and ramps stay per tick:
+// each loop takes the ticks since its last run. Measured in S1 and S2 (test_motion_scenarios):
+// the drives at 500 Hz follow the lines as well as every tick; every third tick did worse (S1 to
+// 5.3 mm: the worm's stick-slip grows with the period).
 constexpr uint8_t kDrivePeriod_ticks = 2;
-constexpr uint8_t kDcServoSlot[3] = {0, 1, 0};  // J2, J3, J4: the tick of the period each runs in
-constexpr uint8_t kStepperRampSlot = 1;
+constexpr uint8_t kMotionSlot = 1;
+constexpr uint8_t kDcServoSlot[3] = {0, 0, 0};  // J2, J3, J4: the tick of the period each runs in
+constexpr uint8_t kStepperRampSlot = 0;
 // Velocity feedforward: each joint's speed at full duty without load, hundredths of a rad/s
 // (the Mabuchi 578VA's 85 rpm at its worm's output over the joint's gear, 4.5, 2.5 and 2:1;
 // measure on the arm). The PID adds speed / this as effort, and its integral the rest (load,
@@ -179,8 +182,8 @@ static_assert(kDcRotorInertiaAtWorm_gm2 > 0 && kDcRotorInertiaAtWorm_gm2 <= kDcI
               "the rotor's inertia is part of each drive's");
 static_assert(kDrivePeriod_ticks >= 1 && kDrivePeriod_ticks <= 4 && kDcServoSlot[0] < kDrivePeriod_ticks &&
                   kDcServoSlot[1] < kDrivePeriod_ticks && kDcServoSlot[2] < kDrivePeriod_ticks &&
-                  kStepperRampSlot < kDrivePeriod_ticks,
-              "the drives' loops run every 1 to 4 ticks, each in a slot of the period");
+                  kStepperRampSlot < kDrivePeriod_ticks && kMotionSlot < kDrivePeriod_ticks,
+              "the drives' loops and the motion pass run every 1 to 4 ticks, each in a slot of the period");
 static_assert(kDcUnparkTime_ms >= 2 * kDrivePeriod_ticks,
               "a parked servo counts a noisy reading as its whole period: unparking takes at least two");
 static_assert(kDcStandingSpeed_mrad_s > 0 && kDcStandingSpeed_mrad_s <= 50, "DC standing speed in (0, 50] mrad/s");

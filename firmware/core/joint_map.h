@@ -104,8 +104,10 @@ inline int32_t ticks_times(int32_t per_tick, uint8_t ticks) {
   return ticks == 1 ? per_tick : ticks == 2 ? per_tick + per_tick : per_tick * ticks;
 }
 
-// A velocity in rad/s (Q23) as Angle counts per control tick, Q16 (the fraction is carried)
+// A velocity in rad/s (Q23) as Angle counts per control tick, Q16 (the fraction is carried),
+// and per two ticks (the motion pass's period): the same product, shifted one bit less
 constexpr Scale kRateToAngleQ16PerTick = scale_for(kAngleCountsPerRad / kRealPerRad / kLoopHz * 65536.0);
+constexpr Scale kRateToAngleQ16PerTwoTicks = Scale{kRateToAngleQ16PerTick.m, (int8_t)(kRateToAngleQ16PerTick.e + 1)};
 
 // The joints' reference angles and velocities, plus the fraction of a count that each angle's
 // integration carries. The angles are one JointAngles, which the kinematics read in place (a
@@ -121,24 +123,35 @@ struct JointReferences {
     q.q[j] = a;
     fraction[j] = 0;
   }
-  // one control tick at qd
-  void advance(uint8_t j, fx::Real qd) {
-    const int32_t delta_q16 = apply(kRateToAngleQ16PerTick, qd.raw) + fraction[j];
+  // one step at qd: of one control tick, or of two (kRateToAngleQ16PerTwoTicks)
+  void advance(uint8_t j, fx::Real qd, Scale per_step = kRateToAngleQ16PerTick) {
+    const int32_t delta_q16 = apply(per_step, qd.raw) + fraction[j];
     q.q[j].raw += delta_q16 >> 16;  // arithmetic shift: floor, the fraction stays in [0, 1)
     fraction[j] = (uint16_t)delta_q16;
   }
-  // one control tick of every joint at its qd_rad_s: advance(j, qd_rad_s[j]) for each j
-  void advance_all();
+  // one step of every joint at its qd_rad_s, of one tick or of two: advance(j, qd_rad_s[j], the
+  // step's Scale) for each j
+  void advance_all(bool two_ticks = false);
+  // `ticks` control ticks: steps of two (a motion pass's), an odd tick one step of its own; the
+  // carried fraction composes the steps
+  void advance_ticks(uint8_t ticks) {
+    while (ticks) {
+      const bool two = ticks >= 2;
+      advance_all(two);
+      ticks = (uint8_t)(ticks - (two ? 2 : 1));
+    }
+  }
 };
 
 static_assert(kRateToAngleQ16PerTick.e == -1 && kRateToAngleQ16PerTick.m > 0,
-              "advance_all's step is apply()'s mul_q16 alone, of a positive factor");
+              "advance_all's step is apply()'s mul_q16 alone (two ticks': mul_q15), of a positive factor");
 #if defined(__AVR__)
 // One asm loop (avr-gcc's six-joint loop reloaded its pointers and `ticks` from the stack,
 // ~113 cycles a joint): Z walks the angles (the velocity at Z+24), X the fractions. Per joint
-// fixed_point.h's mul_q16 without the factor's sign (m > 0), the fraction added and stored, the
-// whole counts (bytes 2-3, sign-extended) added to the angle. r1 is restored once, at the end.
-inline void JointReferences::advance_all() {
+// fixed_point.h's mul_q16 without the factor's sign (m > 0), for two ticks shifted one bit up
+// as in mul_q15, the fraction added and stored, the whole counts (bytes 2-3, sign-extended)
+// added to the angle. r1 is restored once, at the end.
+inline void JointReferences::advance_all(bool two_ticks) {
   static_assert(offsetof(JointReferences, qd_rad_s) == offsetof(JointReferences, q) + 24, "each velocity 24 bytes after its angle");
   fx::Angle* angle = q.q;
   uint16_t* carried = fraction;
@@ -152,6 +165,9 @@ inline void JointReferences::advance_all() {
       "ldd   %B[x], Z+25\n\t"
       "ldd   %C[x], Z+26\n\t"
       "ldd   %D[x], Z+27\n\t" WMRA_MUL32X16_SET_ASM(x, c) WMRA_REAL_SIGN_ASM(x, c, 2)
+      "sbrs  %[two], 0\n\t"
+      "rjmp  4f\n\t" WMRA_SHIFT_Q15_ASM "\n"
+      "4:\n\t"
       "ld    %A[x], X+\n\t"  // + the carried fraction, whose new value is the low half
       "ld    %B[x], X\n\t"
       "add   %A[r], %A[x]\n\t"
@@ -182,12 +198,12 @@ inline void JointReferences::advance_all() {
       "3:\n\t"
       "clr   __zero_reg__"
       : [x] "=&r"(x), [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z), [n] "=&d"(n), [q] "+z"(angle), [f] "+x"(carried)
-      : [c] "r"(kRateToAngleQ16PerTick.m)
+      : [c] "r"(kRateToAngleQ16PerTick.m), [two] "r"((uint8_t)two_ticks)
       : "memory");
 }
 #else
-inline void JointReferences::advance_all() {
-  for (uint8_t j = 0; j < 6; ++j) advance(j, qd_rad_s[j]);
+inline void JointReferences::advance_all(bool two_ticks) {
+  for (uint8_t j = 0; j < 6; ++j) advance(j, qd_rad_s[j], two_ticks ? kRateToAngleQ16PerTwoTicks : kRateToAngleQ16PerTick);
 }
 #endif
 

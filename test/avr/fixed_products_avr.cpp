@@ -121,8 +121,9 @@ void check_unit_sums() {
     }
   }
 }
-// JointReferences::advance_all's asm loop against the 64-bit step, over full-range angles
-// (which wrap) and fractions; the bytes around the references stay untouched
+// JointReferences::advance_all's asm loop against the 64-bit step, of one tick and of two in
+// turn, over full-range angles (which wrap) and fractions; the bytes around the references stay
+// untouched
 void check_advance(vectors::Lcg& rng) {
   struct Guarded {
     uint8_t before[4];
@@ -138,9 +139,9 @@ void check_advance(vectors::Lcg& rng) {
       g.refs.q.q[j].raw = (int32_t)rng.next();
       g.refs.fraction[j] = (uint16_t)rng.next();
       g.refs.qd_rad_s[j].raw = vectors::advance_velocity(rng, n++);
-      want[j] = vectors::reference_advance(g.refs.q.q[j].raw, g.refs.fraction[j], g.refs.qd_rad_s[j].raw);
+      want[j] = vectors::reference_advance(g.refs.q.q[j].raw, g.refs.fraction[j], g.refs.qd_rad_s[j].raw, round % 2);
     }
-    g.refs.advance_all();
+    g.refs.advance_all(round % 2);
     for (uint8_t j = 0; j < 6; ++j) {
       check("advance q", g.refs.qd_rad_s[j].raw, j, g.refs.q.q[j].raw, want[j].q);
       check("advance fraction", g.refs.qd_rad_s[j].raw, j, g.refs.fraction[j], want[j].fraction);

@@ -1,4 +1,4 @@
-// The joint references' one-tick integration (core::JointReferences::advance_all, an asm loop
+// The joint references' integration by a tick or two (core::JointReferences::advance_all, an asm loop
 // on the AVR) in 64-bit arithmetic, and the velocities its checks draw. Shared by the host test
 // (the portable twin) and the AVR image (the asm), so that both meet the same reference.
 #pragma once
@@ -17,11 +17,12 @@ struct AdvancedJoint {
 };
 
 // q + floor((floor((qd m - lo8(qd) lo8(m)) / 2^16) + fraction) / 2^16), the angle wrapping in
-// 32 bits, and the new fraction: the low 16 bits of the inner sum
-inline AdvancedJoint reference_advance(int32_t q, uint16_t fraction, int32_t qd) {
+// 32 bits, and the new fraction: the low 16 bits of the inner sum. Two ticks' step: the
+// product / 2^15.
+inline AdvancedJoint reference_advance(int32_t q, uint16_t fraction, int32_t qd, bool two_ticks = false) {
   const int16_t m = core::kRateToAngleQ16PerTick.m;
   const int64_t product = (int64_t)qd * m - (int64_t)(qd & 0xFF) * (m & 0xFF);
-  const int64_t sum_q16 = (product >> 16) + fraction;
+  const int64_t sum_q16 = (product >> (two_ticks ? 15 : 16)) + fraction;
   return AdvancedJoint{(int32_t)((uint32_t)q + (uint32_t)(int32_t)(sum_q16 >> 16)), (uint16_t)sum_q16};
 }
 

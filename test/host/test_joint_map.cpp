@@ -89,7 +89,7 @@ namespace {
 
 // JointReferences::advance_all, whose AVR asm test/avr/fixed_products_avr.cpp checks against the
 // same 64-bit reference: the portable twin over 10^7 seeded joint steps (every 8th velocity an
-// extreme), angles within +-2^30 (the twin's sum is a signed one).
+// extreme), of one tick and of two in turn, angles within +-2^30 (the twin's sum is a signed one).
 TEST(JointReferences, AdvanceAllIsTheReferenceStep) {
   vectors::Lcg rng{20261122u};
   core::JointReferences refs{};
@@ -101,9 +101,9 @@ TEST(JointReferences, AdvanceAllIsTheReferenceStep) {
       refs.q.q[j].raw = (int32_t)rng.next() >> 2;
       refs.fraction[j] = (uint16_t)rng.next();
       refs.qd_rad_s[j].raw = vectors::advance_velocity(rng, n++);
-      want[j] = vectors::reference_advance(refs.q.q[j].raw, refs.fraction[j], refs.qd_rad_s[j].raw);
+      want[j] = vectors::reference_advance(refs.q.q[j].raw, refs.fraction[j], refs.qd_rad_s[j].raw, round % 2);
     }
-    refs.advance_all();
+    refs.advance_all(round % 2);
     for (uint8_t j = 0; j < 6; ++j) {
       if ((refs.q.q[j].raw != want[j].q || refs.fraction[j] != want[j].fraction) && wrong++ < 5) {
         ADD_FAILURE() << "joint " << (int)j << " qd " << refs.qd_rad_s[j].raw << ": " << refs.q.q[j].raw << " / "
@@ -114,9 +114,9 @@ TEST(JointReferences, AdvanceAllIsTheReferenceStep) {
   EXPECT_EQ(wrong, 0);
 }
 
-// motion_tick integrates `ticks` ticks after an overrun one tick at a time: the same as the
-// product of all of them at once, floor((ticks step + fraction) / 2^16)
-TEST(JointReferences, TicksAtATimeAreTheTicksAtOnce) {
+// motion_tick integrates the `ticks` since its last pass in steps of two ticks and an odd one:
+// the same as all of those steps at once, floor((the steps' sum + fraction) / 2^16)
+TEST(JointReferences, StepsAtATimeAreTheStepsAtOnce) {
   vectors::Lcg rng{77u};
   int wrong = 0;
   for (uint32_t n = 0; n < 200000; ++n) {
@@ -128,8 +128,9 @@ TEST(JointReferences, TicksAtATimeAreTheTicksAtOnce) {
     refs.q.q[0].raw = q0;
     refs.fraction[0] = f0;
     refs.qd_rad_s[0].raw = qd;
-    for (uint8_t i = 0; i < ticks; ++i) refs.advance_all();
-    const int64_t sum_q16 = (int64_t)core::apply(core::kRateToAngleQ16PerTick, qd) * ticks + f0;
+    refs.advance_ticks(ticks);
+    const int64_t sum_q16 = (int64_t)core::apply(core::kRateToAngleQ16PerTwoTicks, qd) * (ticks / 2) +
+                            core::apply(core::kRateToAngleQ16PerTick, qd) * (ticks % 2) + f0;
     if ((refs.q.q[0].raw != q0 + (int32_t)(sum_q16 >> 16) || refs.fraction[0] != (uint16_t)sum_q16) && wrong++ < 5) {
       ADD_FAILURE() << "qd " << qd << " ticks " << (int)ticks;
     }
