@@ -211,9 +211,8 @@ struct DcJoint {
 };
 DcJoint g_dc[3];
 uint8_t g_phase;           // this iteration's phase of the schedule (kSchedulePeriod_ticks, below)
-uint8_t g_slot;            // and of the drives' period (config::kDcServoSlot, kStepperRampSlot)
-uint8_t g_ramp_elapsed;    // and since the stepper ramps last ran
-uint8_t g_motion_elapsed;  // and since the motion pass last ran
+uint8_t g_ramp_elapsed;    // control ticks since the stepper ramps last ran
+uint8_t g_motion_elapsed;  // and since the motion pass last ran (or the stick took over)
 int32_t g_lag_slow_units[3], g_lag_stop_units[3];
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
@@ -781,7 +780,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   // period it would let a glitch twice as large through), with the duty its servo applies.
   // The drives' slots advance by iteration: after an overrun no servo is skipped.
   const uint8_t phase = g_phase = (uint8_t)((g_phase + 1) % kSchedulePeriod_ticks);
-  const uint8_t slot = g_slot = (uint8_t)(phase % kDrivePeriod_ticks);
+  const uint8_t slot = (uint8_t)(phase % kDrivePeriod_ticks);  // config::kMotionSlot, kDcServoSlot, kStepperRampSlot
   for (uint8_t d = 0; d < 3; ++d) {
     // a 16-bit product (10-bit counts x 16): a 32-bit one is a shift loop
     static_assert(1023 * kPositionUnitsPerCount < 32768, "pot units of a 10-bit reading fit 16 bits");
@@ -821,6 +820,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   }
 
   // --- motion
+  bool stick_drives = false;  // the motion pass's ticks count from the first tick it drives
   switch (state) {
     case core::ArmState::homing:
       homing_tick(switches);
@@ -848,17 +848,19 @@ void iterate(Requests& rq, uint8_t ticks) {
       } else if (slot == kMotionSlot) {
         motion_tick(stick, rq, g_motion_elapsed);
         g_motion_elapsed = 0;
+        stick_drives = true;
       } else {  // the drives' slot: the ramps, run below, follow the references
         track_stepper<0>();
         track_stepper<1>();
         track_stepper<2>();
+        stick_drives = true;
       }
       break;
     }
     default:
       break;
   }
-  if (state != core::ArmState::running || g_moving || g_braking) g_motion_elapsed = 0;
+  if (!stick_drives) g_motion_elapsed = 0;
   if (g_supervisor.drives_enabled()) dc_tick(phase, slot);
   for (uint8_t d = 0; d < 3; ++d)
     if (kDcServoSlot[d] == slot) g_dc[d].elapsed = 0;

@@ -1,4 +1,6 @@
-// The arm's control: one iteration per 1 kHz tick, from the inputs to the drives' setpoints.
+// The arm's control: one iteration per 1 kHz tick. Every tick reads the inputs, checks them and
+// updates the supervisor; while the stick drives, the motion pass and the drives' loops
+// alternate, each every second tick (config::kMotionSlot).
 //
 //   inputs     ADC scan (stick, pots), switches, buttons
 //   checks     potentiometer plausibility, limit switches, tracking -> latched faults

@@ -71,8 +71,10 @@ constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}}
 // pass (twist, J^-1, limits, the joints' references) in one slot, the drives' loops following
 // those references in the other: the DC servos (feedforward, PID; their pots are checked every
 // tick) and the steppers' tracking and ramps. Every output changes at 500 Hz either way, and the
-// pass computed every tick cost half the loop's cycles; the drives read references a tick old
-// (0.2 mrad at J2's 0.2 rad/s, 1/25 of a pot count). 500 Hz: twice seed 1's 188 Hz that
+// pass computed every tick took over a third of the loop's cycles (12,954 a tick while the stick
+// drove, 9,625 alternating: test_firmware_budgets). The drives read references a tick old:
+// every joint follows 1 ms later (0.8 mrad at J1's 0.8 rad/s, 0.2 mrad at J2's 0.2 rad/s, 1/25
+// of a pot count), so the hand keeps its path. 500 Hz: twice seed 1's 188 Hz that
 // removed its relay's oscillation, some 20 times the DC joints' bandwidth, and the steppers'
 // ramps move their speed in steps of 2 ms of acceleration. The gains and ramps stay per tick:
 // each loop takes the ticks since its last run. Measured in S1 and S2 (test_motion_scenarios):

@@ -114,6 +114,31 @@ TEST(JointReferences, AdvanceAllIsTheReferenceStep) {
   EXPECT_EQ(wrong, 0);
 }
 
+// A step of two ticks rounds once where two steps of one round twice: over n such steps the
+// angle (Q16, fraction included) is the one-tick steps' to within n / 2^16 of a count, never
+// behind them (floor(2x) >= 2 floor(x)).
+TEST(JointReferences, TwoTickStepsFollowTheOneTickSteps) {
+  vectors::Lcg rng{2611u};
+  int wrong = 0;
+  for (uint32_t n = 0; n < 200000; ++n) {
+    const uint8_t pairs = (uint8_t)(1 + n % 8);
+    core::JointReferences two{}, one{};
+    two.q.q[0].raw = one.q.q[0].raw = (int32_t)rng.next() >> 2;
+    two.fraction[0] = one.fraction[0] = (uint16_t)rng.next();
+    two.qd_rad_s[0].raw = one.qd_rad_s[0].raw = vectors::advance_velocity(rng, n) >> 4;
+    for (uint8_t i = 0; i < pairs; ++i) {
+      two.advance_all(true);
+      one.advance_all();
+      one.advance_all();
+    }
+    const int64_t ahead_q16 = (((int64_t)two.q.q[0].raw << 16) + two.fraction[0]) - (((int64_t)one.q.q[0].raw << 16) + one.fraction[0]);
+    if ((ahead_q16 < 0 || ahead_q16 > pairs) && wrong++ < 5) {
+      ADD_FAILURE() << "qd " << one.qd_rad_s[0].raw << " over " << 2 * pairs << " ticks: " << ahead_q16 << " / 2^16 counts ahead";
+    }
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
 // motion_tick integrates the `ticks` since its last pass in steps of two ticks and an odd one:
 // the same as all of those steps at once, floor((the steps' sum + fraction) / 2^16)
 TEST(JointReferences, StepsAtATimeAreTheStepsAtOnce) {
