@@ -248,8 +248,32 @@ struct PotMap {
   // A reference in pot units as 16 bits, saturated to [-16384, 16383]: a reading's range
   // [0, 16368] and as far again below, so that a reference less a reading fits 16 bits. A
   // reference within the joint's limits is within [units_at_min, units_at_max], untouched.
+  // Every calibration settings.cpp takes as plausible (a span of 600 to 1023 ADC counts over
+  // J2-J4's 180 to 320 deg) has an exponent of -3 or -4: apply()'s shift after mul_q16 is then
+  // 2 or 3 bits, here by constants (a run-time count is a loop, ~7 cycles a bit) in steps of at
+  // most 2 bits (avr-gcc unrolls those; floors compose); any other exponent as apply() does.
   int16_t units(fx::Angle a) const {
-    const int32_t u = units_at_min + apply(units_per_angle, a.raw - q_min.raw);
+    const int32_t x = a.raw - q_min.raw;
+    const Scale s = units_per_angle;
+    int32_t scaled;
+    if (s.e >= 0) {
+      scaled = apply(s, x);
+    } else {
+      scaled = fx::mul_q16(x, s.m);
+      switch (s.e) {
+        case -3:
+          scaled >>= 2;
+          break;
+        case -4:
+          scaled >>= 2;
+          asm("" : "+r"(scaled));
+          scaled >>= 1;
+          break;
+        default:
+          scaled = times_power_of_two(scaled, (int8_t)(s.e + 1));
+      }
+    }
+    const int32_t u = units_at_min + scaled;
     return (int16_t)(u > 16383 ? 16383 : u < -16384 ? -16384 : u);
   }
   fx::Angle angle(int32_t units) const { return fx::Angle{q_min.raw + apply(angle_per_unit, units - units_at_min)}; }

@@ -83,6 +83,49 @@ TEST(Scale, ApplyIsTheProductShiftedOnce) {
   EXPECT_EQ(wrong, 0);
 }
 
+// the 64-bit formula of apply() (above)
+int32_t applied(core::Scale s, int32_t x) {
+  const int64_t product = (int64_t)x * s.m - (int64_t)(x & 0xFF) * (s.m & 0xFF);
+  return s.e >= 0 ? (int32_t)((uint32_t)(int32_t)(product >> 15) << s.e) : (int32_t)(product >> (15 - s.e));
+}
+int16_t units_want(const core::PotMap& map, fx::Angle a) {
+  const int32_t u = map.units_at_min + applied(map.units_per_angle, a.raw - map.q_min.raw);
+  return (int16_t)(u > 16383 ? 16383 : u < -16384 ? -16384 : u);
+}
+
+// PotMap::units shifts by constants for the exponents of the plausible calibrations (-3, -4),
+// by apply() for any other: the same as apply() for every exponent, over random angles and
+// calibrations (a bad calibration must still convert right). Seeded: deterministic.
+TEST(PotMap, UnitsIsApplyForEveryExponent) {
+  vectors::Lcg rng{1511u};
+  int wrong = 0;
+  for (int n = 0; n < 400000; ++n) {
+    const core::Scale s{(int16_t)(16384 + (rng.next() & 16383)), (int8_t)(n % 33 - 24)};  // e in [-24, 8]
+    const core::PotMap map{fx::Angle{(int32_t)rng.next() >> 12}, (int32_t)(rng.next() & 16383), s, s};
+    const fx::Angle a{(int32_t)rng.next() >> (n % 24)};
+    if (map.units(a) != units_want(map, a) && wrong++ < 5) ADD_FAILURE() << "a " << a.raw << " m " << s.m << " e " << (int)s.e;
+  }
+  EXPECT_EQ(wrong, 0);
+}
+
+// The plausible calibrations (settings.cpp: spans of 600 to 1023 counts) of J2-J4 have the
+// exponents units() shifts by constants, and convert as apply() over the joint's range.
+TEST(PotMap, PlausibleCalibrationsTakeTheConstantShifts) {
+  for (int j = 1; j <= 3; ++j) {
+    const fx::Angle q_min = fx::angle_deg(Ratio{arm::q_min_deg[j], 1}), q_max = fx::angle_deg(Ratio{arm::q_max_deg[j], 1});
+    for (int32_t span = 600 * 16; span <= 1023 * 16; span += 16) {
+      const int32_t at_min = (1023 * 16 - span) / 2;
+      const core::PotMap map = core::PotMap::make(q_min, q_max, at_min, at_min + span);
+      const int8_t e = map.units_per_angle.e;
+      ASSERT_TRUE(e == -3 || e == -4) << "J" << j + 1 << " span " << span << ": e " << (int)e;
+      int wrong = 0;
+      for (int32_t a = q_min.raw - 4096; a <= q_max.raw + 4096; a += 97)
+        if (map.units(fx::Angle{a}) != units_want(map, fx::Angle{a})) ++wrong;
+      ASSERT_EQ(wrong, 0) << "J" << j + 1 << " span " << span;
+    }
+  }
+}
+
 }  // namespace
 
 namespace {
