@@ -173,7 +173,9 @@ constexpr uint64_t kIterationTarget_cycles = 8000;
 // motion (ring14, its own state and map): 12,954 and 16,948 (CPU while the stick drives 85.8 %).
 // Session 15: the motion pass every second tick, alternating with the drives' loops (branch
 // r2frame15): 9,625 and 13,506, the alternate iterations 10,058 / 13,506 and 9,194 / 11,955,
-// CPU 66.5 % (budgets: + 3 % and + 10 %).
+// CPU 66.5 %; the pot units' conversion by the calibration's exponent (branch cut15b): 9,521 and
+// 13,435, the alternate iterations 9,894 / 9,149, CPU 65.9 % (budgets: + 3 % and + 10 % of 9,625
+// and 13,506).
 constexpr double kIterationMeanBudget_cycles = 9920;    // [9,625]
 constexpr uint64_t kIterationMaxBudget_cycles = 14860;  // [13,506]
 
