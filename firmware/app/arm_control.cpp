@@ -174,10 +174,6 @@ constexpr uint8_t kDriftEvery_ticks = 4;
 static_assert(kDriftEvery_ticks * kDriftGain_per_s <= 1000 / 20, "the correction updated 20 times per time constant");
 static_assert(kHandPositionAge_ms >= 2 * kDriftEvery_ticks, "the report takes the drift correction's position after an overrun too");
 constexpr uint8_t kSchedulePeriod_ticks = kHoldingPeriod_ticks;
-constexpr uint8_t kDriveSlot = kStepperRampSlot;
-static_assert(kDcServoSlot[0] == kDriveSlot && kDcServoSlot[1] == kDriveSlot && kDcServoSlot[2] == kDriveSlot &&
-                  kDriveSlot != kMotionSlot,
-              "the drives' loops in one slot, the motion pass in another");
 constexpr uint8_t kHoldingPhase = kDriveSlot;
 constexpr uint8_t kDriftPhase = kMotionSlot;
 static_assert(kSchedulePeriod_ticks % kDrivePeriod_ticks == 0 && kSchedulePeriod_ticks % kDriftEvery_ticks == 0 &&
@@ -662,8 +658,8 @@ void dc_tick(uint8_t phase, uint8_t slot) {
     g_governor_due = false;
     update_governor();
   }
-  for (uint8_t d = 0; d < 3; ++d)
-    if (kDcServoSlot[d] == slot) run_dc_servo(d);
+  if (slot == kDriveSlot)
+    for (uint8_t d = 0; d < 3; ++d) run_dc_servo(d);
 }
 
 constexpr core::HomingConfig homing_config(uint8_t i) {
@@ -780,7 +776,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   // period it would let a glitch twice as large through), with the duty its servo applies.
   // The drives' slots advance by iteration: after an overrun no servo is skipped.
   const uint8_t phase = g_phase = (uint8_t)((g_phase + 1) % kSchedulePeriod_ticks);
-  const uint8_t slot = (uint8_t)(phase % kDrivePeriod_ticks);  // config::kMotionSlot, kDcServoSlot, kStepperRampSlot
+  const uint8_t slot = (uint8_t)(phase % kDrivePeriod_ticks);  // config::kMotionSlot, kDriveSlot
   for (uint8_t d = 0; d < 3; ++d) {
     // a 16-bit product (10-bit counts x 16): a 32-bit one is a shift loop
     static_assert(1023 * kPositionUnitsPerCount < 32768, "pot units of a 10-bit reading fit 16 bits");
@@ -862,13 +858,13 @@ void iterate(Requests& rq, uint8_t ticks) {
   }
   if (!stick_drives) g_motion_elapsed = 0;
   if (g_supervisor.drives_enabled()) dc_tick(phase, slot);
-  for (uint8_t d = 0; d < 3; ++d)
-    if (kDcServoSlot[d] == slot) g_dc[d].elapsed = 0;
+  if (slot == kDriveSlot)
+    for (uint8_t d = 0; d < 3; ++d) g_dc[d].elapsed = 0;
   // the steppers' ramps with this iteration's commands: while running in their slot, the steps
   // made counted every tick (the positions the loop reads are a tick old at most); homing and
   // the moves to a pose every tick (their sequences read the ramps' state a tick after a command)
   g_ramp_elapsed = control::add_saturated_u8(g_ramp_elapsed, ticks);
-  if (slot == kStepperRampSlot || state != core::ArmState::running || g_moving || g_braking) {
+  if (slot == kDriveSlot || state != core::ArmState::running || g_moving || g_braking) {
     steppers::service(g_ramp_elapsed);
     g_ramp_elapsed = 0;
   } else {

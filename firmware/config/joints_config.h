@@ -82,8 +82,7 @@ constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}}
 // 5.3 mm: the worm's stick-slip grows with the period).
 constexpr uint8_t kDrivePeriod_ticks = 2;
 constexpr uint8_t kMotionSlot = 1;
-constexpr uint8_t kDcServoSlot[3] = {0, 0, 0};  // J2, J3, J4: the tick of the period each runs in
-constexpr uint8_t kStepperRampSlot = 0;
+constexpr uint8_t kDriveSlot = 0;  // the DC servos and the steppers' tracking and ramps
 // Velocity feedforward: each joint's speed at full duty without load, hundredths of a rad/s
 // (the Mabuchi 578VA's 85 rpm at its worm's output over the joint's gear, 4.5, 2.5 and 2:1;
 // measure on the arm). The PID adds speed / this as effort, and its integral the rest (load,
@@ -182,10 +181,9 @@ static_assert(kDcInertiaAtWorm_gm2[0] > 0 && kDcInertiaAtWorm_gm2[1] > 0 && kDcI
 static_assert(kDcRotorInertiaAtWorm_gm2 > 0 && kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[0] &&
                   kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[1] && kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[2],
               "the rotor's inertia is part of each drive's");
-static_assert(kDrivePeriod_ticks >= 1 && kDrivePeriod_ticks <= 4 && kDcServoSlot[0] < kDrivePeriod_ticks &&
-                  kDcServoSlot[1] < kDrivePeriod_ticks && kDcServoSlot[2] < kDrivePeriod_ticks &&
-                  kStepperRampSlot < kDrivePeriod_ticks && kMotionSlot < kDrivePeriod_ticks,
-              "the drives' loops and the motion pass run every 1 to 4 ticks, each in a slot of the period");
+static_assert(kDrivePeriod_ticks >= 1 && kDrivePeriod_ticks <= 4 && kDriveSlot < kDrivePeriod_ticks &&
+                  kMotionSlot < kDrivePeriod_ticks && kDriveSlot != kMotionSlot,
+              "the drives' loops and the motion pass run every 1 to 4 ticks, each in a slot of its own");
 static_assert(kDcUnparkTime_ms >= 2 * kDrivePeriod_ticks,
               "a parked servo counts a noisy reading as its whole period: unparking takes at least two");
 static_assert(kDcStandingSpeed_mrad_s > 0 && kDcStandingSpeed_mrad_s <= 50, "DC standing speed in (0, 50] mrad/s");
