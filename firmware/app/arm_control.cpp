@@ -209,6 +209,7 @@ DcJoint g_dc[3];
 uint8_t g_phase;           // this iteration's phase of the schedule (kSchedulePeriod_ticks, below)
 uint8_t g_ramp_elapsed;    // control ticks since the stepper ramps last ran
 uint8_t g_motion_elapsed;  // and since the motion pass last ran (or the stick took over)
+uint8_t g_stick_elapsed;   // and since the stick was last sampled
 int32_t g_lag_slow_units[3], g_lag_stop_units[3];
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
 core::StepperHoming g_homing[3];
@@ -769,14 +770,24 @@ void iterate(Requests& rq, uint8_t ticks) {
   g_motion_elapsed = control::add_saturated_u8(g_motion_elapsed, ticks);
   if (ticks > 1) g_overrun_ms = kOverrunReport_ms;
   else if (g_overrun_ms > 0) --g_overrun_ms;
-  const control::JoystickOutput stick = g_stick.update(adc[kAdcStickX], adc[kAdcStickY], ticks);
-  const control::ButtonEvent button = g_button.update(inputs::joystick_button_down(), g_ms);
+  // The slots advance by iteration: after an overrun no job is skipped.
+  const uint8_t phase = g_phase = (uint8_t)((g_phase + 1) % kSchedulePeriod_ticks);
+  const uint8_t slot = (uint8_t)(phase % kDrivePeriod_ticks);  // config::kMotionSlot, kDriveSlot
+  // The stick and its button in the motion pass's slot, which alone uses them (sampled every
+  // tick, every second shape was never used); the joystick's rail check, arming and ramps count
+  // ticks, so a 2 ms sample period keeps their times. (In the drives' slot instead, that tick
+  // took 10,135 cycles on average and the pass's 8,580: test_firmware_budgets.)
+  g_stick_elapsed = control::add_saturated_u8(g_stick_elapsed, ticks);
+  control::JoystickOutput stick = g_stick.output();
+  control::ButtonEvent button = control::ButtonEvent::none;
+  if (slot == kMotionSlot) {
+    stick = g_stick.update(adc[kAdcStickX], adc[kAdcStickY], g_stick_elapsed);
+    g_stick_elapsed = 0;
+    button = g_button.update(inputs::joystick_button_down(), g_ms);
+  }
 
   // --- checks: every reading, every tick (a jump is a change within a tick: over a servo's
   // period it would let a glitch twice as large through), with the duty its servo applies.
-  // The drives' slots advance by iteration: after an overrun no servo is skipped.
-  const uint8_t phase = g_phase = (uint8_t)((g_phase + 1) % kSchedulePeriod_ticks);
-  const uint8_t slot = (uint8_t)(phase % kDrivePeriod_ticks);  // config::kMotionSlot, kDriveSlot
   for (uint8_t d = 0; d < 3; ++d) {
     // a 16-bit product (10-bit counts x 16): a 32-bit one is a shift loop
     static_assert(1023 * kPositionUnitsPerCount < 32768, "pot units of a 10-bit reading fit 16 bits");

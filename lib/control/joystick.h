@@ -1,5 +1,6 @@
 // Joystick shaping: two raw ADC channels in, a velocity command (x, y in Q15, |(x, y)| <= 1)
-// out, once per control tick, as a pure function of the samples.
+// out, once per sample, as a pure function of the samples. A caller may sample every few ticks
+// of its clock: the rail check, the arming and the ramps count ticks, not samples.
 //
 // Pipeline, and why:
 //   1. centre calibration   the mean of the first samples (seed 2: 10 after 500 ms); refused
@@ -7,7 +8,7 @@
 //                           far from mid-scale (deflected at power-up);
 //   2. rail check           a reading within rail_margin of 0 or full scale is a broken or
 //                           unplugged channel: it reads as neutral at once, and after
-//                           rail_samples in a row latches a fault (flag) until the stick has
+//                           rail_ticks in a row latches a fault (flag) until the stick has
 //                           been valid and neutral again (SPEC 6: no motion until valid and
 //                           neutral). Full deflection must stay inside the margins (hardware);
 //   3. normalise            per side of the centre, so that each full deflection is 1: the
@@ -26,7 +27,7 @@
 //                           towards it: no step change of velocity, and letting go stops
 //                           faster than pushing starts;
 //   8. arming               nothing comes out until the stick has been neutral for
-//                           neutral_samples after calibration or a fault.
+//                           neutral_ticks after calibration or a fault.
 // Integer only: one table reciprocal square root per sample for step 5, the rest 16x16
 // products and compares.
 #pragma once
@@ -49,7 +50,7 @@ enum JoystickStatus : uint8_t {
 struct JoystickConfig {
   uint16_t adc_max;              // full-scale reading (1023)
   uint16_t rail_margin;          // readings <= margin or >= adc_max - margin are a rail
-  uint8_t rail_samples;          // > 0
+  uint8_t rail_ticks;            // > 0
   uint8_t calibration_samples;   // 1..64
   uint16_t calibration_spread;   // largest max - min while calibrating
   uint16_t centre_tolerance;     // largest |centre - adc_max / 2|
@@ -57,7 +58,7 @@ struct JoystickConfig {
   int16_t expo_q15;              // [0, 32767]
   int16_t rise_q15;              // per tick of the caller's clock, > 0
   int16_t fall_q15;              // per tick of the caller's clock, > 0
-  uint16_t neutral_samples;      // > 0
+  uint16_t neutral_ticks;        // > 0
   uint16_t full_deflection = 0;  // counts from the centre that are a full stick; 0: up to the rail margin
 };
 
@@ -68,9 +69,9 @@ struct JoystickOutput {
 };
 
 constexpr bool joystick_check(const JoystickConfig& c) {
-  return c.adc_max >= 255 && c.rail_margin < c.adc_max / 4 && c.rail_samples > 0 && c.calibration_samples > 0 &&
+  return c.adc_max >= 255 && c.rail_margin < c.adc_max / 4 && c.rail_ticks > 0 && c.calibration_samples > 0 &&
          c.calibration_samples <= 64 && c.centre_tolerance < c.adc_max / 4 && c.dead_zone_q15 >= 0 &&
-         c.dead_zone_q15 < 16384 && c.expo_q15 >= 0 && c.rise_q15 > 0 && c.fall_q15 > 0 && c.neutral_samples > 0 &&
+         c.dead_zone_q15 < 16384 && c.expo_q15 >= 0 && c.rise_q15 > 0 && c.fall_q15 > 0 && c.neutral_ticks > 0 &&
          (c.full_deflection == 0 || (c.full_deflection > c.adc_max / 8 && c.full_deflection < c.adc_max / 2));
 }
 
@@ -117,8 +118,8 @@ class Joystick {
     for (uint8_t i = 0; i < 2; ++i) {
       at_rail[i] = raw[i] <= c_.rail_margin || raw[i] >= c_.adc_max - c_.rail_margin;
       if (at_rail[i]) {
-        if (rail_count_[i] < 255) ++rail_count_[i];
-        if (rail_count_[i] >= c_.rail_samples) rail_flags_ |= (uint8_t)(kJoystickRailX << i);
+        rail_count_[i] = add_saturated_u8(rail_count_[i], ticks);
+        if (rail_count_[i] >= c_.rail_ticks) rail_flags_ |= (uint8_t)(kJoystickRailX << i);
       } else {
         rail_count_[i] = 0;
       }
@@ -129,12 +130,12 @@ class Joystick {
     }
     int16_t v[2];
     for (uint8_t i = 0; i < 2; ++i) v[i] = at_rail[i] ? 0 : axis(raw[i], i);
-    // arming: neutral (inside the dead zone, both channels valid) for neutral_samples
+    // arming: neutral (inside the dead zone, both channels valid) for neutral_ticks
     const bool neutral = v[0] == 0 && v[1] == 0 && !at_rail[0] && !at_rail[1];
     if (!armed_ || rail_flags_) {
       armed_ = false;
-      neutral_count_ = neutral ? (uint16_t)(neutral_count_ + 1) : 0;
-      if (neutral_count_ >= c_.neutral_samples) {
+      neutral_count_ = !neutral ? 0 : neutral_count_ > 0xFFFFu - ticks ? 0xFFFFu : (uint16_t)(neutral_count_ + ticks);
+      if (neutral_count_ >= c_.neutral_ticks) {
         armed_ = true;
         rail_flags_ = 0;
       }

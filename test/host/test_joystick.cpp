@@ -230,6 +230,24 @@ TEST(Joystick, RampsTakeTheSameTimeWhateverTheSampling) {
   EXPECT_EQ(third.update(512, 512, 3).x_q15, 0);
 }
 
+// The rail check and the arming count ticks, as the ramps do: sampled every second tick (the
+// firmware samples in the motion pass's slot), a stuck channel latches after rail_ticks (50)
+// ticks, not samples, and a neutral stick arms after neutral_ticks (100). Red when either counts
+// samples (then 100 and 200 ticks).
+TEST(Joystick, RailCheckAndArmingCountTicks) {
+  Joystick j = ready(512, 512);
+  auto hold_ticks = [&j](uint16_t x, uint16_t y, int ticks) {
+    JoystickOutput o{};
+    for (int t = 0; t < ticks; t += 2) o = j.update(x, y, 2);
+    return o;
+  };
+  EXPECT_FALSE(hold_ticks(0, 512, 48).status & kJoystickRailX);
+  EXPECT_TRUE(hold_ticks(0, 512, 2).status & kJoystickRailX);  // 50 ticks
+  hold_ticks(512, 512, 98);
+  EXPECT_TRUE(j.output().status & kJoystickNotArmed);
+  EXPECT_EQ(hold_ticks(512, 512, 2).status, 0);  // 100 ticks neutral
+}
+
 // The shape is kept while its input stays (joystick.h): a stick moved, by one axis alone, a
 // count at a time, back and forth, and held, gives after each sample what a new joystick gives
 // for that reading alone (rise and fall within one sample, so the output is the shape itself).
