@@ -12,7 +12,8 @@
 //   Timer3  BTS7960 PWM: J4 R (OC3A), 20 kHz
 //   Timer2  BTS7960 PWM: J2 R (OC2B), 20 kHz (OCR2A is the TOP, so OC2A is not used)
 //   Timer0  BTS7960 PWM: J4 L (OC0B), 20 kHz (OCR0A is the TOP, so OC0A is not used)
-//   Timer1  the 1 kHz system tick and the gripper servo pulse on OC1C (D13), normal mode, 2 MHz
+//   Timer1  the 1 kHz system tick (compare A), the ADC sweep's start at a phase of the tick
+//           (compare B) and the gripper servo pulse on OC1C (D13), normal mode, 2 MHz
 // The BTS7960 takes PWM up to 25 kHz; the 8-bit timers reach 20 kHz only with a TOP of 99,
 // so the L/R sides of J2 and J4 have 100 duty steps on one side and 800 on the other.
 #pragma once

@@ -40,13 +40,15 @@ using namespace config;
 // --- joints and their drives
 constexpr uint8_t kStepperJoint[3] = {0, 4, 5};  // J1, J5, J6: steppers::rate(i)
 constexpr uint8_t kDcJoint[3] = {1, 2, 3};       // J2, J3, J4: bridges::set(d)
-// One sweep per tick (adc_scan.h), the pots twice: the loop reads their second conversions,
-// 0.6 to 0.8 ms into the sweep, so that the DC joints' feedback is as fresh as the free-running
-// scan's was (read at the next tick, 0.2 to 0.4 ms old); older readings made the DC joints catch
-// up their lag harder (S7: J3 1.06 rad/s against its 1.0 limit with one conversion each).
-constexpr uint8_t kAdcOrder[8] = {board::kAdcJoystickX, board::kAdcJoystickY, board::kAdcPotJ2, board::kAdcPotJ3,
-                                  board::kAdcPotJ4,      board::kAdcPotJ2,      board::kAdcPotJ3, board::kAdcPotJ4};
-constexpr uint8_t kAdcStickX = 0, kAdcStickY = 1, kAdcPot = 5;  // indices of the results used
+// One sweep per tick (adc_scan.h) from kAdcSweepPhase_us on: the pots are converted 0.52 to
+// 0.83 ms into the tick and read at the next, 0.2 to 0.5 ms old. Older readings made the DC
+// joints catch up their lag harder (S7: J3 1.06 rad/s against its 1.0 limit when the pots were
+// converted first in a sweep from the loop's start).
+constexpr uint8_t kAdcOrder[5] = {board::kAdcJoystickX, board::kAdcJoystickY, board::kAdcPotJ2, board::kAdcPotJ3,
+                                  board::kAdcPotJ4};
+constexpr uint8_t kAdcStickX = 0, kAdcStickY = 1, kAdcPot = 2;  // indices of the results
+constexpr uint16_t kAdcSweepPhase_us = 310;
+static_assert(kAdcSweepPhase_us + sizeof kAdcOrder * 104 + 30 < 1000, "the sweep done before the next tick reads it");
 constexpr double kTwoPi = 2 * core::kPi;
 
 constexpr core::StepperMap kStepperMap[3] = {core::StepperMap::make(kStepsPerJointTurn[0]),
@@ -745,7 +747,7 @@ WMRA_COLD void configure(Settings& settings) {
 WMRA_COLD void start(Settings& settings) {
   g_settings = &settings;
   configure(settings);
-  adc::start(kAdcOrder, sizeof kAdcOrder);
+  adc::start(kAdcOrder, sizeof kAdcOrder, kAdcSweepPhase_us);
   set_speed_scale(100);
   g_gripper_us_q15 = (int32_t)kGripperStart_us << 15;
 }

@@ -3,6 +3,8 @@
 #include <avr/interrupt.h>
 #include <avr/io.h>
 
+#include "drivers/system_tick.h"
+
 namespace wmra {
 namespace adc {
 
@@ -22,13 +24,20 @@ inline void start_sweep() {
 }
 }  // namespace
 
-void start(const uint8_t* channels, uint8_t count) {
+void start(const uint8_t* channels, uint8_t count, uint16_t sweep_phase_us) {
   g_count = count > kMaxChannels ? kMaxChannels : count;
   for (uint8_t i = 0; i < g_count; ++i) g_admux[i] = (uint8_t)((1 << REFS0) | (channels[i] & 7));
   ADCSRB = 0;  // MUX5 = 0: ADC0..7
   // enable, interrupt, /128 (125 kHz), single conversions
   ADCSRA = (1 << ADEN) | (1 << ADIE) | (1 << ADPS2) | (1 << ADPS1) | (1 << ADPS0);
+  const uint8_t s = SREG;
+  cli();
   start_sweep();
+  // compare A holds the next tick's count (system_tick.cpp): compare B follows it by the phase
+  OCR1B = (uint16_t)(OCR1A + sweep_phase_us * tick::kCountsPerUs);
+  TIFR1 = (1 << OCF1B);
+  TIMSK1 |= (1 << OCIE1B);
+  SREG = s;
 }
 
 void snapshot(uint16_t* counts) {
@@ -43,7 +52,6 @@ void snapshot(uint16_t* counts) {
   counts[5] = g_counts[5];
   counts[6] = g_counts[6];
   counts[7] = g_counts[7];
-  if (g_index >= g_count) start_sweep();
   SREG = s;
 }
 
@@ -96,5 +104,45 @@ ISR(ADC_vect, ISR_NAKED) {
       :
       : [index] "i"(&adc::g_index), [counts] "i"(adc::g_counts), [count] "i"(&adc::g_count), [admux] "i"(adc::g_admux),
         [adcl] "n"(_SFR_MEM_ADDR(ADCL)), [adch] "n"(_SFR_MEM_ADDR(ADCH)), [admux_reg] "n"(_SFR_MEM_ADDR(ADMUX)),
+        [adcsra] "n"(_SFR_MEM_ADDR(ADCSRA)), [adsc] "n"(1 << ADSC));
+}
+
+// The sweep's start, every tick at its phase: compare B moved on by a tick, the first channel
+// selected and converted. Assembly like the ADC's, three registers saved (in C: ~45 cycles).
+// A sweep still converting (impossible at one per tick: eight conversions take 832 us) is
+// left to finish.
+static_assert(tick::kTickCounts == 2000, "the asm below adds 2000 to OCR1B");
+ISR(TIMER1_COMPB_vect, ISR_NAKED) {
+  asm volatile(
+      "push r24\n\t"
+      "in   r24, __SREG__\n\t"
+      "push r24\n\t"
+      "push r25\n\t"
+      "lds  r24, %[ocrl]\n\t"  // the low byte first: it latches the high byte's TEMP
+      "lds  r25, %[ocrh]\n\t"
+      "subi r24, lo8(-2000)\n\t"
+      "sbci r25, hi8(-2000)\n\t"
+      "sts  %[ocrh], r25\n\t"  // the high byte first: written through TEMP with the low one
+      "sts  %[ocrl], r24\n\t"
+      "lds  r24, %[index]\n\t"
+      "lds  r25, %[count]\n\t"
+      "cp   r24, r25\n\t"
+      "brlo 1f\n\t"
+      "clr  r25\n\t"  // (not __zero_reg__: r1 may hold a product's high byte here)
+      "sts  %[index], r25\n\t"
+      "lds  r24, %[admux]\n\t"
+      "sts  %[admux_reg], r24\n\t"
+      "lds  r24, %[adcsra]\n\t"
+      "ori  r24, %[adsc]\n\t"
+      "sts  %[adcsra], r24\n"
+      "1:\n\t"
+      "pop  r25\n\t"
+      "pop  r24\n\t"
+      "out  __SREG__, r24\n\t"
+      "pop  r24\n\t"
+      "reti"
+      :
+      : [index] "i"(&adc::g_index), [count] "i"(&adc::g_count), [admux] "i"(adc::g_admux),
+        [ocrl] "n"(_SFR_MEM_ADDR(OCR1BL)), [ocrh] "n"(_SFR_MEM_ADDR(OCR1BH)), [admux_reg] "n"(_SFR_MEM_ADDR(ADMUX)),
         [adcsra] "n"(_SFR_MEM_ADDR(ADCSRA)), [adsc] "n"(1 << ADSC));
 }

@@ -37,6 +37,7 @@ const std::map<std::string, uint64_t> kIsrBudget_cycles = {
     {"INT4", 260},             // [226] safety button: every output off (bridges.cpp at -O2)
     {"PCINT0", 220},           // [181] limit switches: read, latch, stop hook
     {"TIMER1_COMPA", 100},     // [85] the 1 kHz tick and the stall mark
+    {"TIMER1_COMPB", 65},      // [55] the ADC sweep's start (assembly)
     {"TIMER1_COMPC", 90},      // [81] the servo pulse edge
     {"TIMER5_COMPA", 90},      // [82] a step edge: count, next edge, stop on the count
     {"TIMER5_COMPB", 90},      // (assembly, lib/drivers/steppers.cpp; the ramps run in the
