@@ -157,7 +157,7 @@ static_assert(kHomingDir[0] > 0 && kHomingDir[1] < 0, "J1 homes to its high swit
 // same ones); the drift correction's hand position is part of the motion pass, every second one:
 //   phase      0         1         2         3         4          5         6         7
 //   slot       drives    motion    drives    motion    drives     motion    drives    motion
-//   jobs       holding   drift FK                      governor   drift FK
+//   jobs       holding   drift FK  steppers            governor   drift FK  steppers
 //                                                      (every second time)
 // The state frame (link::poll, every 20 ms after the iteration, about 6,500 cycles) keeps its
 // phase of the clock, not of this counter.
@@ -179,12 +179,14 @@ constexpr uint8_t kSchedulePeriod_ticks = kHoldingPeriod_ticks;
 constexpr uint8_t kHoldingPhase = kDriveSlot;
 constexpr uint8_t kDriftPhase = kMotionSlot;
 static_assert(kSchedulePeriod_ticks % kDrivePeriod_ticks == 0 && kSchedulePeriod_ticks % kDriftEvery_ticks == 0 &&
-                  kHoldingPeriod_ticks == kSchedulePeriod_ticks,
+                  kSchedulePeriod_ticks % kStepperPeriod_ticks == 0 && kHoldingPeriod_ticks == kSchedulePeriod_ticks,
               "every job's period divides the schedule's");
 constexpr uint8_t kGovernorPhase = (uint8_t)((kHoldingPhase + kSchedulePeriod_ticks / 2) % kSchedulePeriod_ticks);
 static_assert(kHoldingPhase % kDriftEvery_ticks != kDriftPhase && kGovernorPhase % kDriftEvery_ticks != kDriftPhase &&
                   kGovernorPhase != kHoldingPhase,
               "the holding update, the speed governor and the drift correction on different ticks");
+static_assert(kHoldingPhase % kStepperPeriod_ticks != kStepperSlot && kGovernorPhase % kStepperPeriod_ticks != kStepperSlot,
+              "the steppers' ramps on ticks without the holding update and the speed governor");
 static_assert(kHoldingPhase % kDrivePeriod_ticks == kDriveSlot && kGovernorPhase % kDrivePeriod_ticks == kDriveSlot &&
                   kDriftPhase % kDrivePeriod_ticks == kMotionSlot && kDriftEvery_ticks % kDrivePeriod_ticks == 0,
               "the drives' plan in the drives' slot, the drift correction in the motion pass's");
@@ -775,6 +777,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   // The slots advance by iteration: after an overrun no job is skipped.
   const uint8_t phase = g_phase = (uint8_t)((g_phase + 1) % kSchedulePeriod_ticks);
   const uint8_t slot = (uint8_t)(phase % kDrivePeriod_ticks);  // config::kMotionSlot, kDriveSlot
+  const bool stepper_slot = phase % kStepperPeriod_ticks == kStepperSlot;
   // The stick and its button in the motion pass's slot, which alone uses them (sampled every
   // tick, every second shape was never used); the joystick's rail check, arming and ramps count
   // ticks, so a 2 ms sample period keeps their times. (In the drives' slot instead, that tick
@@ -854,14 +857,15 @@ void iterate(Requests& rq, uint8_t ticks) {
         if (g_at_target) start_running();
       } else if (g_braking) {
         brake_tick();
-      } else if (slot == kMotionSlot) {
-        motion_tick(stick, rq, g_motion_elapsed);
-        g_motion_elapsed = 0;
-        stick_drives = true;
-      } else {  // the drives' slot: the ramps, run below, follow the references
-        track_stepper<0>();
-        track_stepper<1>();
-        track_stepper<2>();
+      } else {
+        if (slot == kMotionSlot) {
+          motion_tick(stick, rq, g_motion_elapsed);
+          g_motion_elapsed = 0;
+        } else if (stepper_slot) {  // the ramps, run below, follow the references
+          track_stepper<0>();
+          track_stepper<1>();
+          track_stepper<2>();
+        }
         stick_drives = true;
       }
       break;
@@ -873,11 +877,12 @@ void iterate(Requests& rq, uint8_t ticks) {
   if (g_supervisor.drives_enabled()) dc_tick(phase, slot);
   if (slot == kDriveSlot)
     for (uint8_t d = 0; d < 3; ++d) g_dc[d].elapsed = 0;
-  // the steppers' ramps with this iteration's commands: while running in their slot, the steps
-  // made counted every tick (the positions the loop reads are a tick old at most); homing and
-  // the moves to a pose every tick (their sequences read the ramps' state a tick after a command)
+  // the steppers' ramps with this iteration's commands: while the stick drives in their slot,
+  // the steps made counted every tick (the positions the loop reads are a tick old at most);
+  // homing and the moves to a pose every tick (their sequences read the ramps' state a tick
+  // after a command)
   g_ramp_elapsed = control::add_saturated_u8(g_ramp_elapsed, ticks);
-  if (slot == kDriveSlot || state != core::ArmState::running || g_moving || g_braking) {
+  if (stepper_slot || state != core::ArmState::running || g_moving || g_braking) {
     steppers::service(g_ramp_elapsed);
     g_ramp_elapsed = 0;
   } else {

@@ -82,7 +82,15 @@ constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}}
 // 5.3 mm: the worm's stick-slip grows with the period).
 constexpr uint8_t kDrivePeriod_ticks = 2;
 constexpr uint8_t kMotionSlot = 1;
-constexpr uint8_t kDriveSlot = 0;  // the DC servos and the steppers' tracking and ramps
+constexpr uint8_t kDriveSlot = 0;  // the DC servos (and every second time the steppers' tracking and ramps)
+// The steppers' tracking and ramps while the stick drives: every fourth tick (250 Hz), in the
+// drives' ticks that carry neither the holding effort nor the speed governor (arm_control.cpp's
+// schedule). A stepper's position loop (kStepperPositionGain_per_s = 20/s) and its ramp need
+// far less: 4 ms is 0.08 of the loop's time constant, and the ramp's speed moves in steps of
+// 4 ms of acceleration (J1: 2.4 mrad/s). At 500 Hz they took about 2,000 cycles of every
+// drives' tick; S1, S2, S3 and S7 over noise seeds are the same at 250 Hz (README).
+constexpr uint8_t kStepperPeriod_ticks = 4;
+constexpr uint8_t kStepperSlot = 2;
 // Velocity feedforward: each joint's speed at full duty without load, hundredths of a rad/s
 // (the Mabuchi 578VA's 85 rpm at its worm's output over the joint's gear, 4.5, 2.5 and 2:1;
 // measure on the arm). The PID adds speed / this as effort, and its integral the rest (load,
@@ -184,6 +192,9 @@ static_assert(kDcRotorInertiaAtWorm_gm2 > 0 && kDcRotorInertiaAtWorm_gm2 <= kDcI
 static_assert(kDrivePeriod_ticks >= 1 && kDrivePeriod_ticks <= 4 && kDriveSlot < kDrivePeriod_ticks &&
                   kMotionSlot < kDrivePeriod_ticks && kDriveSlot != kMotionSlot,
               "the drives' loops and the motion pass run every 1 to 4 ticks, each in a slot of its own");
+static_assert(kStepperPeriod_ticks % kDrivePeriod_ticks == 0 && kStepperSlot < kStepperPeriod_ticks &&
+                  kStepperSlot % kDrivePeriod_ticks == kDriveSlot,
+              "the steppers' tracking and ramps in the drives' slot, every so many of its ticks");
 static_assert(kDcUnparkTime_ms >= 2 * kDrivePeriod_ticks,
               "a parked servo counts a noisy reading as its whole period: unparking takes at least two");
 static_assert(kDcStandingSpeed_mrad_s > 0 && kDcStandingSpeed_mrad_s <= 50, "DC standing speed in (0, 50] mrad/s");
