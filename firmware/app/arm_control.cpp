@@ -295,7 +295,11 @@ WMRA_COLD void drives_on() {
 constexpr int32_t move_speed_steps_s(uint8_t i) {
   return steps_per_s(i, (int16_t)(kJointSpeedLimit_crad_s[kStepperJoint[i]] * kJointMoveSpeed.num / kJointMoveSpeed.den));
 }
-constexpr int32_t kMoveSpeed_steps_s[3] = {move_speed_steps_s(0), move_speed_steps_s(1), move_speed_steps_s(2)};
+constexpr control::MoveSpeed kMoveSpeed[3] = {control::move_speed(kRampConstants[0], (uint32_t)move_speed_steps_s(0)),
+                                               control::move_speed(kRampConstants[1], (uint32_t)move_speed_steps_s(1)),
+                                               control::move_speed(kRampConstants[2], (uint32_t)move_speed_steps_s(2))};
+
+int32_t g_target_steps[3];  // the move's stepper targets in steps (begin_move: converted once a move)
 
 WMRA_COLD void begin_move(const int32_t* angles) {
   for (uint8_t j = 0; j < 6; ++j) {
@@ -303,7 +307,8 @@ WMRA_COLD void begin_move(const int32_t* angles) {
     g_qd[j] = fx::Real{0};
   }
   for (uint8_t i = 0; i < 3; ++i) {
-    steppers::rate(i).move_to(kStepperMap[i].steps(g_target[kStepperJoint[i]]), (uint32_t)kMoveSpeed_steps_s[i]);
+    g_target_steps[i] = kStepperMap[i].steps(g_target[kStepperJoint[i]]);
+    steppers::rate(i).move_to(g_target_steps[i], kMoveSpeed[i]);
   }
   g_at_target = false;
 }
@@ -317,14 +322,23 @@ constexpr int32_t move_step_per_tick(uint8_t j) {
 constexpr int32_t kMoveStepPerTick[3] = {move_step_per_tick(kDcJoint[0]), move_step_per_tick(kDcJoint[1]),
                                          move_step_per_tick(kDcJoint[2])};
 
+// A stepper's reference in a move is its step count; true once it is at rest on its target.
+// One copy per stepper: the angle's Scale a constant.
+template <uint8_t i>
+bool move_stepper() {
+  const int32_t position = steppers::rate(i).position_steps();
+  g_q.set(kStepperJoint[i], core::StepperMap::angle_of(position, kStepperMap[i].angle_per_step));
+  return position == g_target_steps[i] && !steppers::running(i);
+}
+
+// A move's tick, every tick of it (the moves are the heaviest iterations besides the stick's:
+// not built for size). Arrived: every stepper at rest on its target, every DC reference on its
+// target and every DC joint's pot within the tolerance of it; the pots' angles (a conversion
+// each) only once the rest has arrived.
 WMRA_COLD void move_tick() {
-  bool arrived = true;
-  for (uint8_t i = 0; i < 3; ++i) {
-    const int32_t position = steppers::rate(i).position_steps();
-    g_q.set(kStepperJoint[i], kStepperMap[i].angle(position));
-    if (steppers::running(i) || position != kStepperMap[i].steps(g_target[kStepperJoint[i]])) arrived = false;
-  }
-  constexpr int32_t kTolerance = (int32_t)(kArrivedTolerance_mdeg / 1000.0 / 360.0 * fx::kAngleTurn);
+  bool arrived = move_stepper<0>();
+  arrived &= move_stepper<1>();
+  arrived &= move_stepper<2>();
   for (uint8_t d = 0; d < 3; ++d) {
     const uint8_t j = kDcJoint[d];
     const int32_t max_step = kMoveStepPerTick[d];
@@ -333,8 +347,12 @@ WMRA_COLD void move_tick() {
     if (step < -max_step) step = -max_step;
     g_q.set(j, fx::Angle{g_q.q.q[j].raw + step});
     g_qd[j] = fx::Real{step * kRealPerAngleCountPerTick};
-    const int32_t error = g_dc[d].pot.angle(g_dc[d].units).raw - g_target[j].raw;
-    if (g_q.q.q[j].raw != g_target[j].raw || error > kTolerance || error < -kTolerance) arrived = false;
+    if (g_q.q.q[j].raw != g_target[j].raw) arrived = false;
+  }
+  constexpr int32_t kTolerance = (int32_t)(kArrivedTolerance_mdeg / 1000.0 / 360.0 * fx::kAngleTurn);
+  for (uint8_t d = 0; arrived && d < 3; ++d) {
+    const int32_t error = g_dc[d].pot.angle(g_dc[d].units).raw - g_target[kDcJoint[d]].raw;
+    if (error > kTolerance || error < -kTolerance) arrived = false;
   }
   g_at_target = arrived;
 }

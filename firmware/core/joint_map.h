@@ -228,6 +228,12 @@ struct StepperMap {
   fx::Angle angle(int32_t steps) const {
     return fx::Angle{fx::mul_q15(steps << kExtraBits, angle_per_step.m) >> (kExtraBits - angle_per_step.e)};
   }
+  // angle() for a stepper known at compile time (a constant Scale): the same floors, its shifts
+  // by constants in byte moves and a few bits, where a shift by a count is a loop (~7 cycles a bit)
+  __attribute__((always_inline)) static fx::Angle angle_of(int32_t steps, Scale angle_per_step) {
+    return fx::Angle{times_power_of_two(fx::mul_q15(times_power_of_two(steps, kExtraBits), angle_per_step.m),
+                                        (int8_t)(angle_per_step.e - kExtraBits))};
+  }
   int32_t speed_steps_s(fx::Real qd) const { return apply(steps_s_per_rate, qd.raw); }
 };
 

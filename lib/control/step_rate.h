@@ -55,13 +55,12 @@ struct StepRateConstants {
   uint32_t min_interval_q8;
   uint32_t max_interval_q8;
   uint32_t two_a;              // 2 a, steps/s^2
-  uint32_t full_speed_steps;   // |d| from which any speed up to v_max can brake in time (1 tick)
   uint32_t budget_saturation_steps;  // |d| from which 2 a |d| saturates 32 bits
   int32_t one_step_brake_q8;   // sqrt(2 a): the braking curve one step from the target
 };
 
 constexpr StepRateConstants step_rate_constants(uint32_t tick_hz, uint16_t loop_hz, const StepRateConfig& c) {
-  StepRateConstants k{RateStatus::ok, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+  StepRateConstants k{RateStatus::ok, 0, 0, 0, 0, 0, 0, 0, 0};
   if (c.accel_steps_s2 <= 0) {
     k.status = RateStatus::accel_not_positive;
     return k;
@@ -100,10 +99,39 @@ constexpr StepRateConstants step_rate_constants(uint32_t tick_hz, uint16_t loop_
   k.min_interval_q8 = (uint32_t)c.min_interval_ticks << 8;
   k.max_interval_q8 = (uint32_t)c.max_interval_ticks << 8;
   k.two_a = (uint32_t)c.accel_steps_s2 * 2;
-  k.full_speed_steps = (uint32_t)((uint64_t)v_max * (v_max + dv / 256) / k.two_a + 1);
   k.budget_saturation_steps = 0xFFFFFFFFu / k.two_a;
   k.one_step_brake_q8 = (int32_t)(isqrt64((uint64_t)k.two_a << 16) + 1);
   return k;
+}
+
+// |speed| steps/s as Q8, within the top speed; below the slowest speed, 0. Below the top speed
+// it fits 16 bits (v_max^2 < 2^31: step_rate_constants), so the shift by 8 is a byte move;
+// v_max_q8 is v_max 2^8 exactly.
+constexpr int32_t speed_q8_of(const StepRateConstants& k, uint32_t speed_steps_s) {
+  if (speed_steps_s >= (uint32_t)k.v_max_q8 >> 8) return k.v_max_q8;
+  const int32_t q8 = (int32_t)((uint32_t)(uint16_t)speed_steps_s << 8);
+  return q8 < k.v_min_q8 ? 0 : q8;
+}
+
+// a speed change dv (Q8) in steps/s, at most v_max
+constexpr uint32_t dv_steps_s_of(const StepRateConstants& k, int32_t dv_q8) {
+  return (uint32_t)dv_q8 >> 8 > (uint32_t)k.v_max_q8 >> 8 ? (uint32_t)k.v_max_q8 >> 8 : (uint32_t)dv_q8 >> 8;
+}
+
+// A position move's speed: Q8 (speed_q8_of), and the distance from which the ramp at it can
+// still brake on the target after any tick of one loop period, c (c + a dt) < 2 a d: there a
+// tick needs no braking products (two 32-bit library calls a tick; this is a division, once a
+// move, at compile time for a constant speed). c (c + a dt) < 2^32: both at most v_max,
+// v_max^2 < 2^31.
+struct MoveSpeed {
+  int32_t q8;
+  uint32_t cruise_steps;
+};
+constexpr MoveSpeed move_speed(const StepRateConstants& k, uint32_t speed_steps_s) {
+  const int32_t q8 = speed_q8_of(k, speed_steps_s);
+  if (q8 == 0) return MoveSpeed{0, 0};
+  const uint32_t c = (uint32_t)q8 >> 8;
+  return MoveSpeed{q8, c * (c + dv_steps_s_of(k, (int32_t)k.dv_q8_per_tick)) / k.two_a + 1};
 }
 
 // What the step ISR gets for the next tick.
@@ -138,12 +166,20 @@ class StepRate {
     has_target_ = false;
   }
   // Go to a position (steps) and stop there exactly, at most at max_speed_steps_s (a speed
-  // below the slowest one brakes to rest instead).
-  void move_to(int32_t target_steps, uint32_t max_speed_steps_s) {
+  // below the slowest one brakes to rest instead). The speed's MoveSpeed is worked out (a
+  // division) only when it is not the move's already: a caller may command every tick. Built
+  // for size (homing's few commands; the moves to a pose take a MoveSpeed made at compile time).
+  __attribute__((optimize("Os"))) void move_to(int32_t target_steps, uint32_t max_speed_steps_s) {
+    const bool same_speed = has_target_ && speed_q8_of(k_, max_speed_steps_s) == want_q8_;
+    move_to(target_steps, same_speed ? MoveSpeed{want_q8_, cruise_steps_} : move_speed(k_, max_speed_steps_s));
+  }
+  // the same with the speed's MoveSpeed (move_speed() of this ramp's constants, at compile time)
+  void move_to(int32_t target_steps, const MoveSpeed& speed) {
     const int32_t target = clamp_i32(target_steps, -kPositionLimit, kPositionLimit);
     if (!has_target_ || target != target_) stopping_ = false;
     target_ = target;
-    want_q8_ = speed_q8(max_speed_steps_s);
+    want_q8_ = speed.q8;
+    cruise_steps_ = speed.cruise_steps;
     has_target_ = want_q8_ != 0;
   }
   // Brake to rest at the acceleration limit.
@@ -241,14 +277,7 @@ class StepRate {
   }
 
  private:
-  // |speed| steps/s as Q8, within the top speed; below the slowest speed, 0. Below the top
-  // speed it fits 16 bits (v_max^2 < 2^31: step_rate_constants), so the shift by 8 is a byte
-  // move; v_max_q8 is v_max 2^8 exactly.
-  int32_t speed_q8(uint32_t speed_steps_s) const {
-    if (speed_steps_s >= (uint32_t)k_.v_max_q8 >> 8) return k_.v_max_q8;
-    const int32_t q8 = (int32_t)((uint32_t)(uint16_t)speed_steps_s << 8);
-    return q8 < k_.v_min_q8 ? 0 : q8;
-  }
+  int32_t speed_q8(uint32_t speed_steps_s) const { return speed_q8_of(k_, speed_steps_s); }
 
   // Braking from u after this tick, a dt less each tick, stops within d steps: the tick at
   // u, then u - a dt, ... covers u^2 / (2a) + u dt / 2, so u (u + a dt) <= 2 a d (steps/s;
@@ -258,10 +287,7 @@ class StepRate {
     return u * (u + dv_steps_s) <= budget;
   }
   uint32_t brake_budget(uint32_t d) const { return d >= k_.budget_saturation_steps ? 0xFFFFFFFFu : k_.two_a * d; }
-  uint32_t dv_steps_s(int32_t dv_q8) const {
-    const uint32_t dv = (uint32_t)dv_q8 >> 8, v_max = (uint32_t)k_.v_max_q8 >> 8;
-    return dv > v_max ? v_max : dv;
-  }
+  uint32_t dv_steps_s(int32_t dv_q8) const { return dv_steps_s_of(k_, dv_q8); }
   // kTickHz 2^(z+1) for z = 0..7 (interval_q8)
   static const uint32_t* tick_hz_shifted() {
     static_assert(kTickHz < (1ul << 24), "kTickHz 2^8 fits 32 bits");
@@ -277,7 +303,7 @@ class StepRate {
     uint32_t up = speed + (uint32_t)dv;
     if (up > command) up = command;
     uint32_t next = up;
-    if (!(ticks == 1 && d >= k_.full_speed_steps) && !can_brake_in(up, dv_steps_s(dv), brake_budget(d))) {
+    if (!(ticks == 1 && d >= cruise_steps_) && !can_brake_in(up, dv_steps_s(dv), brake_budget(d))) {
       next = speed > (uint32_t)dv ? speed - (uint32_t)dv : 0;
     }
     return next < (uint32_t)k_.v_min_q8 ? (uint32_t)k_.v_min_q8 : next;
@@ -328,11 +354,12 @@ class StepRate {
     return Approach{want, steps_left, false};
   }
 
-  StepRateConstants k_{RateStatus::ok, 0, 0, 0x7FFFFFFF, 0, 0, 0, 0, 0, 0};  // not configured: no speed is fast enough
+  StepRateConstants k_{RateStatus::ok, 0, 0, 0x7FFFFFFF, 0, 0, 0, 0, 0};  // not configured: no speed is fast enough
   int32_t want_q8_ = 0;
   bool has_target_ = false;
   bool stopping_ = false;  // the ISR has the target's steps left
   int32_t target_ = 0;
+  uint32_t cruise_steps_ = 0;  // |d| from which the move's speed brakes in time (move_to)
   int32_t position_ = 0;
   int32_t v_q8_ = 0;
   uint32_t interval_q8_ = 0;  // for v_q8_ (when not 0)

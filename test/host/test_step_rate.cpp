@@ -5,6 +5,7 @@
 // speeds below the slowest one a stop, garbage commands saturated.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -223,6 +224,24 @@ TEST(StepRate, PositionMovesArriveExactlyWithoutOvershoot) {
       EXPECT_EQ(ch.position, target);
       EXPECT_EQ(ch.rate.position_steps(), target);
       EXPECT_FALSE(ch.rate.moving());
+    }
+  }
+}
+
+TEST(StepRate, CruiseDistanceIsTheBrakingBoundOfTheMovesSpeed) {
+  // from cruise_steps on, the move's speed c brakes in time after a tick (c (c + a dt) < 2 a d),
+  // one step closer it does not: the ticks beyond it skip the braking products exactly where
+  // they would have found braking possible
+  for (const StepRateConfig& config : {kJ1, kJ6, kFast}) {
+    const StepRateConstants k = constants(config);
+    const uint64_t dv = std::min<uint64_t>(k.dv_q8_per_tick >> 8, (uint32_t)k.v_max_q8 >> 8);
+    for (uint32_t speed = 1; speed <= ((uint32_t)k.v_max_q8 >> 8) + 10; speed += 7) {
+      const MoveSpeed m = move_speed(k, speed);
+      ASSERT_EQ(m.q8, speed_q8_of(k, speed));
+      if (m.q8 == 0) continue;
+      const uint64_t c = (uint32_t)m.q8 >> 8, need = c * (c + dv);
+      EXPECT_LT(need, (uint64_t)k.two_a * m.cruise_steps) << speed;
+      EXPECT_GE(need, (uint64_t)k.two_a * (m.cruise_steps - 1)) << speed;
     }
   }
 }
