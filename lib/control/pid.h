@@ -219,7 +219,7 @@ class Pid {
   // 4 Hz ringing. Within [-out_max, out_max] for an effort within the bounds.
   static int16_t duty_moving(int16_t effort_q15, bool negative, int16_t friction_q15, uint16_t slope_q15) {
     const int16_t a = negative ? (int16_t)-effort_q15 : effort_q15;
-    const int16_t d = (int16_t)(friction_q15 + (int16_t)(fx::mul_us(slope_q15, a) >> 15));
+    const int16_t d = (int16_t)(friction_q15 + shr15_to_i16(fx::mul_us(slope_q15, a)));
     return negative ? (int16_t)-d : d;
   }
   // the slope from friction_q15 at effort 0 to out_max at full effort (Q15 of 32768)

@@ -302,4 +302,22 @@ TEST(Pid, AnUpdateOverTwoSamplesIsTwoSamples) {
   }
 }
 
+// duty_moving is friction + floor(slope x effort / 2^15) in the motion's direction, negated for a
+// negative motion, over every effort and the slopes' range (its shift by 15 is taken as a
+// byte pick after one left shift: bits 15..30 of the product). Red with a wrong bit taken.
+TEST(Pid, DutyMovingIsTheFrictionPlusTheSlopedEffort) {
+  for (int32_t slope = 16384; slope <= 32768; slope += 1021) {
+    for (int32_t effort = -32767; effort <= 32767; effort += 7) {
+      for (bool negative : {false, true}) {
+        const int64_t a = negative ? -effort : effort;
+        const int64_t floor_product = (int64_t)std::floor((double)(slope * a) / 32768.0);
+        const int64_t d = 2883 + floor_product;
+        const int16_t want = (int16_t)(negative ? -d : d);
+        ASSERT_EQ(Pid::duty_moving((int16_t)effort, negative, 2883, (uint16_t)slope), want)
+            << "slope " << slope << " effort " << effort << (negative ? " negative" : "");
+      }
+    }
+  }
+}
+
 }  // namespace
