@@ -1,6 +1,7 @@
-// The arm's control: one iteration per 1 kHz tick. Every tick reads the inputs, checks them and
-// updates the supervisor; while the stick drives, the motion pass and the drives' loops
-// alternate, each every second tick (config::kMotionSlot).
+// The arm's control: one iteration per 1 kHz tick. Every tick reads the pots and switches,
+// checks them and updates the supervisor; while the stick drives, the motion pass (with the
+// stick's sample) and the DC servos alternate, each every second tick (config::kMotionSlot),
+// and the steppers' ramps follow every fourth (config::kStepperSlot).
 //
 //   inputs     ADC scan (stick, pots), switches, buttons
 //   checks     potentiometer plausibility, limit switches, tracking -> latched faults
