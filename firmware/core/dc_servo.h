@@ -126,8 +126,10 @@ class DcServo {
         if (!still) {
           start_units_ = measured_units;
           broke_away_ = false;
-          const bool lifting = lifting_effort_q15(holding_q15, direction == 0 ? 1 : -1) != 0;
+          const int16_t lift_q15 = lifting_effort_q15(holding_q15, direction == 0 ? 1 : -1);
+          const bool lifting = lift_q15 != 0;
           if (lifting) pid_.start_at_error(e, measured_units, holding_q15);
+          set_breakaway(lift_q15 < 0 ? (int16_t)-lift_q15 : lift_q15);
           pid_.preset_integral(lifting ? holding_q15_[direction] : (int16_t)0);
         }
       } else {
@@ -147,23 +149,45 @@ class DcServo {
     if (use_relay_) applied_ = relay_.update(reference_units, measured_units);
     else {
       const int16_t effort = pid_.update_effort(e, measured_units, feedforward_q15, ticks);
-      // the breakaway's duty until the pot shows the joint moved past the park band (two
-      // counts: one is a noisy reading at a count's edge) its way since it left park
-      // (stiction), then the moving friction's (a joint that starts with the moving friction's
-      // 2 % less, J3 lifting in S1, breaks away 30 ms late)
+      // Until the pot shows the joint moved past the park band (two counts: one is a noisy
+      // reading at a count's edge) its way since it left park, an effort past the load's
+      // (lift_q15_) gets at least the breakaway's duty, the static friction's and the load's
+      // (stiction: a joint that starts with the moving friction's 2 % less, J3 lifting in S1,
+      // broke away 30 ms late); past that, the moving friction's map, which it is on once it
+      // moves. The breakaway's map instead (min_duty + the effort) kept the static friction's
+      // excess over the Coulomb's, 2.2 % duty or 40-100 mrad/s at J2-J4, on every motion until
+      // the pot saw two counts (12 mrad at J4): the lowering joints ran at twice their
+      // references' speed in the stick's ramp, S1's hand 4.7 mm below its line at 0.18 s.
       if (!broke_away_)
         broke_away_ = direction == 0 ? measured_units - start_units_ > park_units_
                                      : start_units_ - measured_units > park_units_;
-      applied_ = still ? pid_.duty_for(effort)
-                 : broke_away_ ? control::Pid::duty_moving(effort, direction != 0, moving_friction_q15_, moving_slope_q15_)
-                               : control::Pid::duty_moving(effort, direction != 0, pid_.config().min_duty_q15,
-                                                           breakaway_slope_q15_);
+      if (still) applied_ = pid_.duty_for(effort);
+      else {
+        const bool negative = direction != 0;
+        int16_t a = negative ? (int16_t)-effort : effort;  // the effort the motion's way
+        if (!broke_away_ && a > lift_q15_ && a < breakaway_effort_q15_) a = breakaway_effort_q15_;
+        applied_ = control::Pid::duty_moving(negative ? (int16_t)-a : a, negative, moving_friction_q15_, moving_slope_q15_);
+      }
     }
     if (!still) holding_q15_[direction] = (int16_t)(pid_.integral_q23() >> 8);
     return applied_;
   }
 
   bool parked() const { return parked_; }
+
+ private:
+  // the efforts that hold the load a motion lifts (lift_q15 >= 0, the motion's way; 0 lowering:
+  // the worm takes the load) and on the moving map reach the breakaway's duty, the static
+  // friction's and that load's (duty_for's dead-zone inverse of it: min_duty + slope lift). On
+  // leaving park only: one division.
+  __attribute__((noinline, optimize("Os"))) void set_breakaway(int16_t lift_q15) {
+    lift_q15_ = lift_q15;
+    const int16_t breakaway_q15 = control::Pid::duty_moving(lift_q15, false, pid_.config().min_duty_q15, breakaway_slope_q15_);
+    const int32_t a = (((int32_t)(breakaway_q15 - moving_friction_q15_) << 15) + moving_slope_q15_ - 1) / moving_slope_q15_;
+    breakaway_effort_q15_ = (int16_t)(a > pid_.config().out_max_q15 ? pid_.config().out_max_q15 : a);
+  }
+
+ public:
   int16_t applied() const { return applied_; }
 
  private:
@@ -185,6 +209,8 @@ class DcServo {
   uint16_t breakaway_slope_q15_ = 32768;  // and of the breakaway's (min_duty)
   int16_t start_units_ = 0;  // the reading when the servo last left park for a moving reference
   bool broke_away_ = false;  // and the joint has moved past the park band its way since
+  int16_t lift_q15_ = 0;              // set_breakaway's
+  int16_t breakaway_effort_q15_ = 0;
   control::Relay relay_;
   control::PlausibilityMonitor checks_;
 };

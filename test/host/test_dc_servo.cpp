@@ -199,4 +199,25 @@ TEST(DcServo, ALiftingReferenceStartsTheJointFromItsHoldingEffortThroughNoise) {
   EXPECT_LE(moved_ms, 200) << "ms until the joint lifted a count";
 }
 
+// A reference that starts lowering a joint at rest (the worm takes the load): the joint breaks
+// away at the static friction's duty, and once moving its speed is the duty's excess over the
+// Coulomb friction's. Until the pot showed two counts, the breakaway's map (the stiction's duty
+// plus the effort) kept 2.2 % duty more than the motion's, 80-100 mrad/s at J3 and J4: the
+// lowering joints ran at twice their references' speed in S1's stick ramp.
+TEST(DcServo, ALoweringJointBreaksAwayAtTheStictionsDutyNotOnTopOfIt) {
+  const core::DcServoConfig c = config();
+  core::DcServo servo;
+  ASSERT_TRUE(servo.configure(c));
+  const int16_t reading = 5000;
+  servo.rest(reading);
+  // 2 % effort downwards, the reference a unit below the reading (within the count)
+  const int16_t duty = servo.update(reading - 1, reading, -700, 0);
+  EXPECT_EQ(duty, -kMinDuty_q15) << "a small effort's duty is the stiction's, enough to break away and no more";
+  // an effort against the motion (the joint ahead): below the stiction's, the joint stays
+  core::DcServo ahead;
+  ASSERT_TRUE(ahead.configure(c));
+  ahead.rest(reading);
+  EXPECT_GT(ahead.update(reading + 2 * kUnitsPerCount, reading, -700, 0), -kMinDuty_q15);
+}
+
 }  // namespace
