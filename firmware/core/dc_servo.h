@@ -174,6 +174,7 @@ class DcServo {
   }
 
   bool parked() const { return parked_; }
+  int16_t applied() const { return applied_; }
 
  private:
   // the efforts that hold the load a motion lifts (lift_q15 >= 0, the motion's way; 0 lowering:
@@ -187,10 +188,6 @@ class DcServo {
     breakaway_effort_q15_ = (int16_t)(a > pid_.config().out_max_q15 ? pid_.config().out_max_q15 : a);
   }
 
- public:
-  int16_t applied() const { return applied_; }
-
- private:
   // update's state first: within the AVR's 64-byte displacement of the object's address (the
   // PID's and the servo's fields each reached through a pointer sum took ~100 cycles a run)
   control::Pid pid_;
