@@ -57,9 +57,13 @@ class DcServo {
     moving_friction_q15_ = c.moving_friction_q15;
     const bool ok = pid_.configure(c.pid) == control::PidStatus::ok && relay_.configure(c.relay) == control::RelayStatus::ok &&
            checks_.configure(c.checks) == control::PlausibilityStatus::ok && c.park_units >= 0 &&
-           c.park_units <= 16383 && c.moving_friction_q15 >= 0 && c.moving_friction_q15 <= c.pid.min_duty_q15;
+           c.park_units <= 16383 && c.moving_friction_q15 >= 0 && c.moving_friction_q15 <= c.pid.min_duty_q15 &&
+           c.moving_friction_q15 <= c.pid.out_max_q15 / 2;
     breakaway_slope_q15_ = pid_.moving_slope_q15(pid_.config().min_duty_q15);
     moving_slope_q15_ = pid_.moving_slope_q15(moving_friction_q15_);
+    // 1 / slope - 1 in Q16, rounded down (the slope is above a half: a friction of at most half
+    // the full duty, so this fits 16 bits)
+    inverse_slope_less1_q16_ = (uint16_t)(((uint32_t)1 << 31) / moving_slope_q15_ - 65536u);
     return ok;
   }
 
@@ -178,14 +182,20 @@ class DcServo {
 
  private:
   // the efforts that hold the load a motion lifts (lift_q15 >= 0, the motion's way; 0 lowering:
-  // the worm takes the load) and on the moving map reach the breakaway's duty, the static
-  // friction's and that load's (duty_for's dead-zone inverse of it: min_duty + slope lift). On
-  // leaving park only: one division.
-  __attribute__((noinline, optimize("Os"))) void set_breakaway(int16_t lift_q15) {
+  // the worm takes the load) and, the least one, on the moving map reach the breakaway's duty,
+  // the static friction's and that load's (duty_for's dead-zone inverse of it: min_duty + slope
+  // lift). On leaving park only, without a division (three servos leave it in one tick at a
+  // move's start, a 32-bit division each took that tick past 1 ms): the excess over the moving
+  // friction times 1 / slope through the reciprocal rounded down, at most a few below the least
+  // effort, then up to it.
+  __attribute__((noinline)) void set_breakaway(int16_t lift_q15) {
     lift_q15_ = lift_q15;
+    const int16_t out_max = pid_.config().out_max_q15;
     const int16_t breakaway_q15 = control::Pid::duty_moving(lift_q15, false, pid_.config().min_duty_q15, breakaway_slope_q15_);
-    const int32_t a = (((int32_t)(breakaway_q15 - moving_friction_q15_) << 15) + moving_slope_q15_ - 1) / moving_slope_q15_;
-    breakaway_effort_q15_ = (int16_t)(a > pid_.config().out_max_q15 ? pid_.config().out_max_q15 : a);
+    const int16_t over_q15 = (int16_t)(breakaway_q15 - moving_friction_q15_);  // >= 0: friction <= min_duty
+    int32_t a = over_q15 + (int32_t)fx::hi16(fx::mul_uu((uint16_t)over_q15, inverse_slope_less1_q16_));
+    while (a < out_max && control::Pid::duty_moving((int16_t)a, false, moving_friction_q15_, moving_slope_q15_) < breakaway_q15) ++a;
+    breakaway_effort_q15_ = (int16_t)(a > out_max ? out_max : a);
   }
 
   // update's state first: within the AVR's 64-byte displacement of the object's address (the
@@ -204,6 +214,7 @@ class DcServo {
   int16_t moving_friction_q15_ = 0;
   uint16_t moving_slope_q15_ = 32768;     // Pid::moving_slope_q15 of the moving friction
   uint16_t breakaway_slope_q15_ = 32768;  // and of the breakaway's (min_duty)
+  uint16_t inverse_slope_less1_q16_ = 0;  // 1 / moving_slope_q15_ - 1, Q16, rounded down
   int16_t start_units_ = 0;  // the reading when the servo last left park for a moving reference
   bool broke_away_ = false;  // and the joint has moved past the park band its way since
   int16_t lift_q15_ = 0;              // set_breakaway's

@@ -220,4 +220,24 @@ TEST(DcServo, ALoweringJointBreaksAwayAtTheStictionsDutyNotOnTopOfIt) {
   EXPECT_GT(ahead.update(reading + 2 * kUnitsPerCount, reading, -700, 0), -kMinDuty_q15);
 }
 
+// Lifting, the breakaway's duty is the stiction's plus the load's (duty_for of the holding
+// effort), and the least effort on the moving map that reaches it (set_breakaway's reciprocal
+// and its correction, exact): a start whose effort is just past the load's gets exactly that duty.
+TEST(DcServo, ALiftingJointBreaksAwayAtTheStictionsAndTheLoadsDuty) {
+  const core::DcServoConfig c = config();
+  control::Pid pid;
+  ASSERT_EQ(pid.configure(c.pid), control::PidStatus::ok);
+  for (int16_t holding = 100; holding <= 4000; holding = (int16_t)(holding + 97)) {
+    core::DcServo servo;
+    ASSERT_TRUE(servo.configure(c));
+    const int16_t reading = 5000;
+    servo.rest(reading);
+    // a reference moving up a unit ahead, its feedforward the load's and a slow speed's (as
+    // run_dc_servo's): the effort starts at the holding effort and ramps up by its rate (655)
+    const int16_t duty = servo.update(reading + 1, reading, (int16_t)(holding + 700), holding);
+    EXPECT_EQ(duty, control::Pid::duty_moving(holding, false, kMinDuty_q15, pid.moving_slope_q15(kMinDuty_q15)))
+        << "holding " << holding;
+  }
+}
+
 }  // namespace
