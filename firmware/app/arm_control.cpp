@@ -154,11 +154,11 @@ static_assert(kHomingDir[0] > 0 && kHomingDir[1] < 0, "J1 homes to its high swit
 // loops alternate (joints_config.h); the holding effort and the speed governor, the drives'
 // plan, go to the drives' ticks, each on its own, the governor half a period after the holding
 // update it follows (it read the holding duties of the same tick; 4 ticks later it reads the
-// same ones); the drift correction's hand position is part of the motion pass, every second one:
+// same ones); the drift correction's hand position goes with the holding effort (the same trig):
 //   phase      0         1         2         3         4          5         6         7
 //   slot       drives    motion    drives    motion    drives     motion    drives    motion
-//   jobs       holding   drift FK  steppers            governor   drift FK  steppers
-//                                                      (every second time)
+//   jobs       holding,            steppers            governor             steppers
+//              drift FK                                (every second time)
 // The state frame (link::poll, every 20 ms after the iteration, about 6,500 cycles) keeps its
 // phase of the clock, not of this counter.
 // The holding effort: the load and with it the drives' speeds change with the pose, slowly: at
@@ -169,27 +169,24 @@ static_assert(kHomingDir[0] > 0 && kHomingDir[1] < 0, "J1 homes to its high swit
 // 10 % reserve the plan keeps for the PID (kDcDutyReserve_permille). (All of it every 16 ticks,
 // the holding effort itself too, turned the hand in S2 by 0.91 deg where it was 0.78.)
 constexpr uint8_t kHoldingPeriod_ticks = 8;
-// The drift correction's hand position (FK, ~1,100 cycles): its time constant is
-// 1 / kDriftGain_per_s (200 ms), and the error it corrects (fixed-point rounding of the
-// integrated references) grows over seconds.
-constexpr uint8_t kDriftEvery_ticks = 4;
+// The drift correction's hand position (FK, ~1,100 cycles, of which the trig is the holding
+// effort's): its time constant is 1 / kDriftGain_per_s (200 ms), and the error it corrects
+// (fixed-point rounding of the integrated references) grows over seconds. (In the motion pass,
+// every fourth tick, it made that pass the loop's longest tick: 12,260 cycles in R1.)
+constexpr uint8_t kDriftEvery_ticks = kHoldingPeriod_ticks;
 static_assert(kDriftEvery_ticks * kDriftGain_per_s <= 1000 / 20, "the correction updated 20 times per time constant");
 static_assert(kHandPositionAge_ms >= 2 * kDriftEvery_ticks, "the report takes the drift correction's position after an overrun too");
 constexpr uint8_t kSchedulePeriod_ticks = kHoldingPeriod_ticks;
 constexpr uint8_t kHoldingPhase = kDriveSlot;
-constexpr uint8_t kDriftPhase = kMotionSlot;
-static_assert(kSchedulePeriod_ticks % kDrivePeriod_ticks == 0 && kSchedulePeriod_ticks % kDriftEvery_ticks == 0 &&
-                  kSchedulePeriod_ticks % kStepperPeriod_ticks == 0 && kHoldingPeriod_ticks == kSchedulePeriod_ticks,
+static_assert(kSchedulePeriod_ticks % kDrivePeriod_ticks == 0 && kSchedulePeriod_ticks % kStepperPeriod_ticks == 0 &&
+                  kHoldingPeriod_ticks == kSchedulePeriod_ticks,
               "every job's period divides the schedule's");
 constexpr uint8_t kGovernorPhase = (uint8_t)((kHoldingPhase + kSchedulePeriod_ticks / 2) % kSchedulePeriod_ticks);
-static_assert(kHoldingPhase % kDriftEvery_ticks != kDriftPhase && kGovernorPhase % kDriftEvery_ticks != kDriftPhase &&
-                  kGovernorPhase != kHoldingPhase,
-              "the holding update, the speed governor and the drift correction on different ticks");
+static_assert(kGovernorPhase != kHoldingPhase, "the holding update and the speed governor on different ticks");
 static_assert(kHoldingPhase % kStepperPeriod_ticks != kStepperSlot && kGovernorPhase % kStepperPeriod_ticks != kStepperSlot,
               "the steppers' ramps on ticks without the holding update and the speed governor");
-static_assert(kHoldingPhase % kDrivePeriod_ticks == kDriveSlot && kGovernorPhase % kDrivePeriod_ticks == kDriveSlot &&
-                  kDriftPhase % kDrivePeriod_ticks == kMotionSlot && kDriftEvery_ticks % kDrivePeriod_ticks == 0,
-              "the drives' plan in the drives' slot, the drift correction in the motion pass's");
+static_assert(kHoldingPhase % kDrivePeriod_ticks == kDriveSlot && kGovernorPhase % kDrivePeriod_ticks == kDriveSlot,
+              "the drives' plan in the drives' slot");
 
 // --- state
 core::Supervisor g_supervisor;
@@ -485,17 +482,9 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
                         core::scaled(factor, twist.w_q1_rad_s.z)};
   }
 
-  // Drift correction: towards the integrated commanded position, the hand's position in its
-  // phases of the schedule only (kDriftPhase); position and commanded position are sampled
-  // together, so the held correction has no lag term of its own.
-  if (g_phase % kDriftEvery_ticks == kDriftPhase) {
-    const kin::Vec3<fx::Real>& p = g_p_hand = kin::hand_position<Fixed>(trig);
-    g_p_hand_ms = tick::now_ms();
-    g_drift_m_s = {drift_correction((g_p_cmd.x - p.x).raw), drift_correction((g_p_cmd.y - p.y).raw),
-                   drift_correction((g_p_cmd.z - p.z).raw)};
-  }
-  // the correction goes into the twist in place (a copy of the twist is a 24-byte loop); the
-  // commanded velocity, without it, is what the commanded position integrates
+  // the drift correction (update_drift's, held between its updates) goes into the twist in place
+  // (a copy of the twist is a 24-byte loop); the commanded velocity, without it, is what the
+  // commanded position integrates
   const kin::Vec3<fx::Real> v_cmd = twist.v_m_s;
   twist.v_m_s.x = v_cmd.x + g_drift_m_s.x;
   twist.v_m_s.y = v_cmd.y + g_drift_m_s.y;
@@ -575,12 +564,24 @@ WMRA_COLD void enter(core::ArmState state) {
   }
 }
 
-WMRA_SMALL void update_holding() {
-  const core::HoldingEffort holding = core::holding_effort(kin::jacobian_trig<Fixed>(g_q.q));
+// Drift correction: towards the integrated commanded position from the hand's position; both
+// are the last motion pass's, sampled together, so the held correction has no lag term of its own.
+void update_drift(const kin::JacobianTrig<Fixed>& trig) {
+  const kin::Vec3<fx::Real>& p = g_p_hand = kin::hand_position<Fixed>(trig);
+  g_p_hand_ms = tick::now_ms();
+  g_drift_m_s = {drift_correction((g_p_cmd.x - p.x).raw), drift_correction((g_p_cmd.y - p.y).raw),
+                 drift_correction((g_p_cmd.z - p.z).raw)};
+}
+
+// the holding effort, and while the stick drives the drift correction, from the references' trig
+WMRA_SMALL void update_holding(bool stick_drives) {
+  const kin::JacobianTrig<Fixed> trig = kin::jacobian_trig<Fixed>(g_q.q);
+  const core::HoldingEffort holding = core::holding_effort(trig);
   for (uint8_t d = 0; d < 3; ++d) {
     const int16_t h = g_dc[d].holding_q15 = holding.duty_q15[d];
     g_dc[d].holding_effort_q15 = effort_for_duty(h);
   }
+  if (stick_drives) update_drift(trig);
 }
 
 // the speed governor, from the holding duties of the last update
@@ -673,9 +674,9 @@ __attribute__((noinline)) void run_dc_servo(uint8_t d) {
 }
 
 // The DC servos of this iteration's slot, and the holding effort in its phase.
-void dc_tick(uint8_t phase, uint8_t slot) {
+void dc_tick(uint8_t phase, uint8_t slot, bool stick_drives) {
   if (phase == kHoldingPhase) {
-    update_holding();
+    update_holding(stick_drives);
     g_governor_due = g_holding_governs = !g_holding_governs;
   } else if (phase == kGovernorPhase && g_governor_due) {
     g_governor_due = false;
@@ -892,7 +893,7 @@ void iterate(Requests& rq, uint8_t ticks) {
       break;
   }
   if (!stick_drives) g_motion_elapsed = 0;
-  if (g_supervisor.drives_enabled()) dc_tick(phase, slot);
+  if (g_supervisor.drives_enabled()) dc_tick(phase, slot, stick_drives);
   if (slot == kDriveSlot)
     for (uint8_t d = 0; d < 3; ++d) g_dc[d].elapsed = 0;
   // the steppers' ramps with this iteration's commands: while the stick drives in their slot,
