@@ -32,6 +32,8 @@ const std::string kOut = std::string(DEMO_OUT) + "/demo";
 // the stick in a mode moved the arm: the hand 20 mm, the wrist 0.2 rad (full stick for a
 // second is about 150 mm, 0.8 rad)
 constexpr double kMoved_mm = 20, kTurned_rad = 0.2;
+// one tick of the 1 kHz loop at 16 MHz: an iteration's cycles at most
+constexpr uint64_t kTick_cycles = 16000000 / config::kLoopHz;
 // the firmware read a full stick (shaped, in [-1000, 1000])
 constexpr int kFullStick_permille = 900;
 // Timer1 counts at 2 MHz: the firmware's pulse widths are whole half-microseconds
@@ -137,6 +139,11 @@ void check_states(const DemoRun& d) {
   EXPECT_TRUE(d.result.faults.empty()) << "faults reported: " << faults;
   EXPECT_EQ(d.telemetry.boots().size(), 1u);
   for (int k = 0; k < 3; ++k) EXPECT_EQ(d.result.measurements.steps[k].lost, 0) << "stepper " << k;
+  // nor does any iteration outlast its tick (the next one starts late; the move to the ready
+  // pose's first took 16,238 cycles while the holding update shared it with the servos leaving park)
+  const sim::CycleStats& loop = d.result.measurements.loop_high;
+  std::printf("demo: control loop mean %.0f, max %llu cycles\n", loop.mean(), (unsigned long long)loop.max);
+  EXPECT_LE(loop.max, kTick_cycles);
 }
 
 void check_modes(const DemoRun& d) {
