@@ -204,13 +204,13 @@ struct DcJoint {
   int16_t lag_fault_units;  // capped at 32767: a reference less a reading is at most 32,752
   int16_t holding_q15;      // the holding effort's duty at the reference pose (core::HoldingEffort)
   int16_t holding_effort_q15;  // the same as the servo's effort (through the dead-zone inverse)
-  uint8_t elapsed;          // control ticks since the servo last ran
   fx::Real qd_prev;         // the reference's speed of the last dc_tick (its acceleration)
   core::PotMap pot;
 };
 DcJoint g_dc[3];
 uint8_t g_phase;           // this iteration's phase of the schedule (kSchedulePeriod_ticks, below)
-uint8_t g_ramp_elapsed;    // control ticks since the stepper ramps last ran
+uint8_t g_servo_elapsed;   // control ticks since the DC servos last ran (in one slot, all three)
+uint8_t g_ramp_elapsed;    // and since the stepper ramps last ran
 uint8_t g_motion_elapsed;  // and since the motion pass last ran (or the stick took over)
 uint8_t g_stick_elapsed;   // and since the stick was last sampled
 int32_t g_lag_slow_units[3], g_lag_stop_units[3];
@@ -259,6 +259,7 @@ bool stick_invalid(const control::JoystickOutput& stick) {
 
 WMRA_COLD void drives_off() {
   steppers::kill();
+  steppers::count();
   bridges::all_off();
   for (uint8_t i = 0; i < 3; ++i) {
     steppers::Rate& r = steppers::rate(i);
@@ -301,6 +302,7 @@ constexpr control::MoveSpeed kMoveSpeed[3] = {control::move_speed(kRampConstants
 int32_t g_target_steps[3];  // the move's stepper targets in steps (begin_move: converted once a move)
 
 WMRA_COLD void begin_move(const int32_t* angles) {
+  steppers::count();  // move_tick reads the counts before this tick's service
   for (uint8_t j = 0; j < 6; ++j) {
     g_target[j].raw = angles[j];
     g_qd[j] = fx::Real{0};
@@ -529,6 +531,7 @@ WMRA_COLD void start_running() {
 // drives (their ramps cut at move speed, J1, carrying the arm, lost 128 steps and the firmware
 // no longer knew where it was); the DC joints' references stand where they are (the worm holds).
 WMRA_COLD void brake_move() {
+  steppers::count();  // brake_tick reads the counts before this tick's service
   for (uint8_t i = 0; i < 3; ++i) steppers::rate(i).stop();
   for (uint8_t d = 0; d < 3; ++d) g_qd[kDcJoint[d]] = fx::Real{0};
   g_braking = true;
@@ -641,7 +644,7 @@ constexpr int16_t kOneOverTicks[kOverrunTicks + 1] = {0, 32767, 16384, 10923, 81
 // iteration).
 __attribute__((noinline)) void run_dc_servo(uint8_t d) {
   DcJoint& dc = g_dc[d];
-  const uint8_t ticks = dc.elapsed;
+  const uint8_t ticks = g_servo_elapsed;
   const int16_t reference = dc.pot.units(g_q.q.q[kDcJoint[d]]);
   dc.reference_units = reference;
   const int16_t lag = (int16_t)(reference - dc.units);  // [-16384 - 16368, 16383]
@@ -790,6 +793,15 @@ void stop_from_interrupt() {
   steppers::kill();
 }
 
+// a re-arm's (out of iterate, which is at avr-gcc's limit of inlining growth: one more line in
+// it and a scale's product in the steppers' tracking went into an out-of-line copy, 332 B)
+namespace {
+WMRA_COLD void clear_faults() {
+  g_faults = 0;
+  for (uint8_t d = 0; d < 3; ++d) g_servo[d].reset_checks(g_dc[d].units);
+}
+}  // namespace
+
 void iterate(Requests& rq, uint8_t ticks) {
   // --- inputs
   uint16_t adc[adc::kMaxChannels];
@@ -822,14 +834,18 @@ void iterate(Requests& rq, uint8_t ticks) {
     button = g_button.update(inputs::joystick_button_down(), g_ms);
   }
 
-  // --- checks: every reading, every tick (a jump is a change within a tick: over a servo's
-  // period it would let a glitch twice as large through), with the duty its servo applies.
+  // --- checks: every reading, every tick, at the rails and for a jump (a jump is a change
+  // within a tick: over a servo's period it would let a glitch twice as large through); the
+  // motion checks (stall, sign error) with the servo, in its slot before it runs: the duty they
+  // judge changes only then, so each of their windows spans the one duty (every tick, they cost
+  // ~45 cycles a tick more and saw each duty twice).
+  g_servo_elapsed = control::add_saturated_u8(g_servo_elapsed, ticks);
+  const uint8_t servo_ticks = slot == kDriveSlot ? g_servo_elapsed : 0;
   for (uint8_t d = 0; d < 3; ++d) {
     // a 16-bit product (10-bit counts x 16): a 32-bit one is a shift loop
     static_assert(1023 * kPositionUnitsPerCount < 32768, "pot units of a 10-bit reading fit 16 bits");
     g_dc[d].units = (int16_t)(adc[kAdcPot + d] * kPositionUnitsPerCount);
-    g_dc[d].elapsed = control::add_saturated_u8(g_dc[d].elapsed, ticks);
-    const uint8_t flags = g_servo[d].check(g_dc[d].units, ticks);
+    const uint8_t flags = g_servo[d].check(g_dc[d].units, ticks, servo_ticks);
     if (flags) g_faults |= core::dc_joint_faults(d, flags);  // a 32-bit shift by a run-time count is a loop
   }
   if (inputs::take_switch_event()) g_faults |= core::fault_mask(core::kFaultBitLimitUnexpected);
@@ -837,10 +853,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   // --- supervisor
   const bool long_press = button == control::ButtonEvent::long_press;
   const bool halted = before == core::ArmState::stopped || before == core::ArmState::fault;
-  if (halted && (rq.rearm || long_press) && !safety) {
-    g_faults = 0;
-    for (uint8_t d = 0; d < 3; ++d) g_servo[d].reset_checks(g_dc[d].units);
-  }
+  if (halted && (rq.rearm || long_press) && !safety) clear_faults();
   const bool stick_valid = !stick_invalid(stick);
   const bool stick_neutral = stick.x_q15 == 0 && stick.y_q15 == 0 && !(stick.status & control::kJoystickCalibrating);
   core::SupervisorInputs in{};
@@ -906,17 +919,17 @@ void iterate(Requests& rq, uint8_t ticks) {
   }
   if (!stick_drives) g_motion_elapsed = 0;
   if (g_supervisor.drives_enabled()) dc_tick(phase, slot, stick_drives);
-  if (slot == kDriveSlot)
-    for (uint8_t d = 0; d < 3; ++d) g_dc[d].elapsed = 0;
+  if (slot == kDriveSlot) g_servo_elapsed = 0;
   // the steppers' ramps with this iteration's commands: while the stick drives in their slot,
-  // the steps made counted every tick (the positions the loop reads are a tick old at most);
-  // homing and the moves to a pose every tick (their sequences read the ramps' state a tick
-  // after a command)
+  // and the steps made counted in the tick before it only, for its tracking (a tick old, as in
+  // homing and the moves to a pose, which service the ramps every tick: their sequences read the
+  // ramps' state a tick after a command). Nothing else reads the counts while the stick drives;
+  // the readers outside it (the report, the drives off, a move or a brake begun) count first.
   g_ramp_elapsed = control::add_saturated_u8(g_ramp_elapsed, ticks);
   if (stepper_slot || state != core::ArmState::running || g_moving || g_braking) {
     steppers::service(g_ramp_elapsed);
     g_ramp_elapsed = 0;
-  } else {
+  } else if ((g_phase + 1) % kStepperPeriod_ticks == kStepperSlot) {  // (the global: phase kept live to here cost ~70 cycles)
     steppers::count();
   }
 
@@ -935,6 +948,7 @@ WMRA_COLD const Status& status() {
   g_status.switches = inputs::closed_switches();
   g_status.stick_q15[0] = stick.x_q15;
   g_status.stick_q15[1] = stick.y_q15;
+  steppers::count();  // while the stick drives the loop counts the steps every fourth tick only
   for (uint8_t i = 0; i < 3; ++i)
     g_status.q_measured[kStepperJoint[i]] = kStepperMap[i].angle(steppers::rate(i).position_steps());
   for (uint8_t d = 0; d < 3; ++d) g_status.q_measured[kDcJoint[d]] = g_dc[d].pot.angle(g_dc[d].units);

@@ -91,9 +91,15 @@ class DcServo {
                              control::Pid::duty_moving(down_q15, false, moving_friction_q15_, moving_slope_q15_));
   }
 
-  // The reading of this tick: runs the checks (on the duty applied since the last reading, over
-  // `ticks` control ticks).
-  uint8_t check(int16_t measured_units, uint8_t ticks = 1) { return checks_.update(applied_, measured_units, ticks); }
+  // The reading of this tick (`ticks` control ticks after the last): its rail and jump checks,
+  // and if servo_ticks is not 0 the motion checks over the servo's last run's duty, applied
+  // since then (servo_ticks ago; every reading's by default). The duty changes only when the
+  // servo runs: checked right before each run, a motion window spans one duty, and twice the
+  // ticks (a servo every second tick) count twice.
+  uint8_t check(int16_t measured_units, uint8_t ticks = 1) { return check(measured_units, ticks, ticks); }
+  uint8_t check(int16_t measured_units, uint8_t ticks, uint8_t servo_ticks) {
+    return checks_.update(applied_, measured_units, ticks, servo_ticks);
+  }
 
   // The duty for the next tick. feedforward_q15: the effort the reference's speed needs; 0
   // (within the PID's zero band) for a standing reference. Not inlined: three copies unrolled

@@ -10,7 +10,10 @@
 //               the joint can move (a wiper lifting, a broken wire, a noisy channel);
 //   rail        the reading is outside [rail_low, rail_high] for rail_samples samples in a row
 //               (an open or shorted potentiometer reads at a rail).
-// A rail or jump sample is not used for the motion checks. Positions are 16-bit (pot units:
+// A rail or jump sample is not used for the motion checks. The motion checks may run at a lower
+// rate than the readings' (update's motion_samples): with a servo that changes its duty every
+// few samples, each window then spans one duty, and a glitch is still caught at the reading
+// it is in. Positions are 16-bit (pot units:
 // ADC counts x 16); the checks use only comparisons and 16-bit differences, saturated to
 // +-32767 where signed (every threshold is below that, so the saturation changes no decision).
 // Flags stay set until reset().
@@ -80,12 +83,15 @@ class PlausibilityMonitor {
     rail_count_ = 0;
   }
 
-  // One sample: the duty applied during the sample that ends now, and the reading. samples:
-  // the sample periods it spans (a caller that overran): the counts advance by that many, and
-  // the joint may have moved that many steps. Returns the latched flags.
+  // One sample: the reading, its rail and jump checks, and the motion checks if motion_samples
+  // is not 0. samples: the sample periods since the last reading (a caller that overran): the
+  // joint may have moved that many steps. motion_samples: the sample periods since the motion
+  // checks last ran (their counts advance by that many), during which duty_q15 was applied
+  // throughout: by default every sample's. Returns the latched flags.
+  uint8_t update(int16_t duty_q15, int16_t position, uint8_t samples = 1) { return update(duty_q15, position, samples, samples); }
   // Not inlined: one copy serves the three DC joints (inlined in the caller's loop it took the
   // registers of the code around it).
-  __attribute__((noinline)) uint8_t update(int16_t duty_q15, int16_t position, uint8_t samples = 1) {
+  __attribute__((noinline)) uint8_t update(int16_t duty_q15, int16_t position, uint8_t samples, uint8_t motion_samples) {
     if (!configured_) return faults_;
     if (position < c_.rail_low || position > c_.rail_high) {
       rail_count_ = add_saturated_u8(rail_count_, samples);
@@ -105,6 +111,7 @@ class PlausibilityMonitor {
     }
     prev_ = position;
     have_prev_ = true;
+    if (motion_samples == 0) return faults_;
 
     const int8_t dir = duty_q15 >= up_q15_ ? 1 : duty_q15 <= -down_q15_ ? -1 : 0;
     if (dir == 0) {
@@ -125,12 +132,12 @@ class PlausibilityMonitor {
     if (forward >= c_.stall_progress) {
       stall_anchor_ = position;
       stall_count_ = 0;
-    } else if ((stall_count_ = (uint16_t)(stall_count_ + samples)) >= c_.stall_samples) {
+    } else if ((stall_count_ = (uint16_t)(stall_count_ + motion_samples)) >= c_.stall_samples) {
       faults_ |= kFaultStall;
       stall_count_ = c_.stall_samples;
     }
     if (grace_ > 0) {
-      grace_ = grace_ > samples ? (uint16_t)(grace_ - samples) : (uint16_t)0;
+      grace_ = grace_ > motion_samples ? (uint16_t)(grace_ - motion_samples) : (uint16_t)0;
       peak_ = position;
     } else {
       const int16_t ahead = dir > 0 ? sub_saturated_i16(position, peak_) : sub_saturated_i16(peak_, position);

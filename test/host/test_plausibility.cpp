@@ -174,3 +174,56 @@ TEST(Plausibility, SamplesOverTwoPeriodsCountTwice) {
 }
 
 }  // namespace
+
+// The motion checks at half the readings' rate (the firmware's: with the servo, every second
+// tick, motion_samples = 2): every reading is still checked at the rails and for a jump at once,
+// and the stall and the sign error take the same time.
+TEST(Plausibility, MotionChecksEverySecondSampleKeepTheReadingsChecksAndTheirTimes) {
+  const PlausibilityConfig c = monitor_config();
+  PlausibilityMonitor m;
+  ASSERT_EQ(m.configure(c), PlausibilityStatus::ok);
+  m.reset(500 * kUnits);
+  EXPECT_EQ(m.update(0, 500 * kUnits, 1, 2), 0);
+  EXPECT_EQ(m.update(0, 500 * kUnits + 4 * c.max_step, 1, 0), kFaultJump) << "a jump between the motion checks";
+  m.reset(500 * kUnits);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(m.update(0, 2 * kUnits, 1, k % 2 ? 2 : 0), 0);
+  EXPECT_EQ(m.update(0, 2 * kUnits, 1, 0), kFaultRail) << "five readings at the rail, the last between the motion checks";
+
+  // a blocked joint under saturated drive: the stall after stall_samples samples either way
+  Joint blocked;
+  blocked.blocked = true;
+  PlausibilityMonitor stalled;
+  ASSERT_EQ(stalled.configure(c), PlausibilityStatus::ok);
+  stalled.reset(blocked.reading());
+  int stalled_at = -1;
+  for (int k = 1; k < kRateHz && stalled_at < 0; ++k)
+    if (stalled.update(32767, blocked.reading(), 1, k % 2 ? 0 : 2) & kFaultStall) stalled_at = k;
+  EXPECT_EQ(stalled_at, c.stall_samples + 2) << "the window opens at the first motion check (sample 2)";
+
+  // the motion checks judge the duty they are given: a reversed one between them is not theirs
+  PlausibilityMonitor judged;
+  ASSERT_EQ(judged.configure(c), PlausibilityStatus::ok);
+  judged.reset(blocked.reading());
+  uint8_t faults = 0;
+  for (int k = 1; k <= c.stall_samples + 2; ++k) faults = judged.update(k % 2 ? -32767 : 32767, blocked.reading(), 1, k % 2 ? 0 : 2);
+  EXPECT_TRUE(faults & kFaultStall);
+
+  // a motor wired the wrong way round: the sign error as soon as with every sample's checks
+  int at[2] = {-1, -1};
+  for (int every_second = 0; every_second < 2; ++every_second) {
+    Joint j;
+    j.sign = -1;
+    j.load = 0;
+    PlausibilityMonitor s;
+    ASSERT_EQ(s.configure(c), PlausibilityStatus::ok);
+    s.reset(j.reading());
+    for (int k = 1; k < kRateHz && at[every_second] < 0; ++k) {
+      const uint8_t motion = every_second ? (k % 2 ? 0 : 2) : 1;
+      if (s.update(32767, j.reading(), 1, motion) & kFaultSignError) at[every_second] = k;
+      j.step(1.0);
+    }
+  }
+  EXPECT_GT(at[0], c.sign_grace_samples);
+  EXPECT_GE(at[1], at[0]);
+  EXPECT_LE(at[1], at[0] + 3) << "the grace counts samples, not motion checks";
+}
