@@ -569,8 +569,9 @@ WMRA_COLD void enter(core::ArmState state) {
   }
 }
 
-// Drift correction: towards the integrated commanded position from the hand's position; both
-// are the last motion pass's, sampled together, so the held correction has no lag term of its own.
+// Drift correction (while the stick drives): towards the integrated commanded position from the
+// hand's position; both are the last motion pass's, sampled together, so the held correction
+// has no lag term of its own.
 void update_drift(const kin::JacobianTrig<Fixed>& trig) {
   const kin::Vec3<fx::Real>& p = g_p_hand = kin::hand_position<Fixed>(trig);
   g_p_hand_ms = tick::now_ms();
@@ -684,7 +685,11 @@ __attribute__((noinline)) void run_dc_servo(uint8_t d) {
 // the move's first the servos leave park (breakaway, the PID's restart) and the targets are
 // converted: with the holding update too, the move to the ready pose's first took 16,238
 // cycles, 14,199 without. The servos then read a holding effort of references one tick older
-// (at move speed the load's angle sums differ by at most 1.8 mrad: 0.13 % of full duty).
+// (at move speed the load's angle sums differ by at most 1.8 mrad: 0.13 % of full duty). Where
+// the stick starts or stops driving between the two phases, one update is skipped (a move begun
+// at the holding phase: its first tick without it) or runs twice, and the governor's next run
+// may come up to 32 ticks after its last: a move runs at half the speed limits, so the angle
+// sums move no more than in the 16 ticks the governor's margin allows (above).
 void dc_tick(uint8_t phase, uint8_t slot, bool stick_drives) {
   constexpr uint8_t kEarlyHoldingPhase = (kHoldingPhase + kSchedulePeriod_ticks - 1) % kSchedulePeriod_ticks;
   constexpr uint8_t kEarlyGovernorPhase = (kGovernorPhase + kSchedulePeriod_ticks - 1) % kSchedulePeriod_ticks;

@@ -94,8 +94,8 @@ class DcServo {
   // The reading of this tick (`ticks` control ticks after the last): its rail and jump checks,
   // and if servo_ticks is not 0 the motion checks over the servo's last run's duty, applied
   // since then (servo_ticks ago; every reading's by default). The duty changes only when the
-  // servo runs: checked right before each run, a motion window spans one duty, and twice the
-  // ticks (a servo every second tick) count twice.
+  // servo runs: checked right before each run, a motion window spans one duty, and its times
+  // count the servo's ticks (2 for a servo every second tick), not the checks.
   uint8_t check(int16_t measured_units, uint8_t ticks = 1) { return check(measured_units, ticks, ticks); }
   uint8_t check(int16_t measured_units, uint8_t ticks, uint8_t servo_ticks) {
     return checks_.update(applied_, measured_units, ticks, servo_ticks);
