@@ -415,7 +415,8 @@ fx::Real drift_correction(int32_t error) {
   return fx::Real{error < 0 ? -c : c};
 }
 
-kin::Twist<Fixed> velocity_twist(const Requests& rq) {
+// (its w about the wrist axes, as J^-1 takes it: a telemetry command, rare; built for size)
+WMRA_SMALL kin::TwistWrist<Fixed> velocity_twist(const Requests& rq, const kin::JacobianTrig<Fixed>& trig) {
   constexpr int32_t kRealPerMilli = 8389;  // Q23 per 1/1000 (m/s from mm/s, rad/s from mrad/s)
   constexpr int32_t kHand = fx::real(kMaxHandSpeed_m_s).raw, kWrist = fx::real(kMaxWristSpeed_rad_s).raw;
   kin::Twist<Fixed> t;
@@ -424,7 +425,7 @@ kin::Twist<Fixed> velocity_twist(const Requests& rq) {
   t.w_rad_s = {clamp_real(fx::Real{rq.w_mrad_s[0] * kRealPerMilli}, kWrist),
                clamp_real(fx::Real{rq.w_mrad_s[1] * kRealPerMilli}, kWrist),
                clamp_real(fx::Real{rq.w_mrad_s[2] * kRealPerMilli}, kWrist)};
-  return t;
+  return kin::twist_wrist<Fixed>(trig, t);
 }
 
 // The servo gets no pulse until the person first moves the stick in the gripper mode: the first
@@ -471,10 +472,10 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
 
   const config::Mode mode = g_supervisor.mode();
   // initialised from the call (an assignment copied the returned twist, a 24-byte loop)
-  // (w in the frame turned by q1, where J^-1 takes it: a telemetry command's turned there)
-  kin::TwistQ1<Fixed> twist = rq.velocity_fresh
-                                ? kin::twist_q1<Fixed>(trig, velocity_twist(rq))
-                                : core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}}, trig);
+  // (w about the wrist axes, where J^-1 takes it: a telemetry command's turned there)
+  kin::TwistWrist<Fixed> twist = rq.velocity_fresh
+                                   ? velocity_twist(rq, trig)
+                                   : core::stick_twist(mode, core::Stick{fx::Unit{stick.x_q15}, fx::Unit{stick.y_q15}});
   if (!rq.velocity_fresh && mode == config::Mode::gripper) {
     gripper_tick(config::kStickYSign > 0 ? stick.y_q15 : (int16_t)-stick.y_q15, ticks);
   }
@@ -484,8 +485,8 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   // (tested once here: scaled() tests it again for each of the six)
   if (factor.raw != fx::kUnitOne) {
     twist.v_m_s = {core::scaled(factor, twist.v_m_s.x), core::scaled(factor, twist.v_m_s.y), core::scaled(factor, twist.v_m_s.z)};
-    twist.w_q1_rad_s = {core::scaled(factor, twist.w_q1_rad_s.x), core::scaled(factor, twist.w_q1_rad_s.y),
-                        core::scaled(factor, twist.w_q1_rad_s.z)};
+    twist.w5_rad_s = {core::scaled(factor, twist.w5_rad_s.x), core::scaled(factor, twist.w5_rad_s.y),
+                      core::scaled(factor, twist.w5_rad_s.z)};
   }
 
   // the drift correction (update_drift's, held between its updates) goes into the twist in place

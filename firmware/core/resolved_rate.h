@@ -2,8 +2,8 @@
 // scaled down, all by one factor, wherever a joint or the arm's geometry asks for it.
 //
 //   1. qd = J^-1(q) twist, the closed form of inverse_jacobian.h (damped inside the
-//      singular bands, so qd stays bounded there); the twist's w in the frame turned by q1
-//      (kin::TwistQ1: what the rotation modes build, kin::twist_q1 turns a base-frame one).
+//      singular bands, so qd stays bounded there); the twist's w about the wrist axes
+//      (kin::TwistWrist: what the rotation modes give, kin::twist_wrist turns a base-frame one).
 //   2. Singularity slow-down. For each factor of det J (c5, s3, R5) inside its slow band and
 //      moving towards zero (sign(f) df/dt < 0), the motion may go at most the fraction
 //      (|f| - damp) / (slow - damp) of its speed: 1 at the edge of the slow band, 0 at the
@@ -193,7 +193,7 @@ __attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimit
 }
 
 template <class Trig>
-JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::TwistQ1<Fixed>& twist,
+JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::TwistWrist<Fixed>& twist,
                          const MotionLimits& limits, const DriveSpeeds* drives = nullptr) {
   static constexpr fx::Unit kA2 = fx::unit(arm::a2), kA3 = fx::unit(arm::a3), kA4 = fx::unit(arm::a4);
   static constexpr int32_t kDampC5 = fx::unit(arm::kSingularBands.damp_c5).raw;
@@ -203,7 +203,7 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
   static constexpr int32_t kDampR5 = fx::unit(arm::kSingularBands.damp_r5_m).raw;
   static constexpr int32_t kSlowR5 = fx::unit(arm::kSingularBands.slow_r5_m).raw;
 
-  const auto inv = kin::inverse_jacobian_q1<Fixed>(t, twist);
+  const auto inv = kin::inverse_jacobian_wrist<Fixed>(t, twist);
   const fx::Real* qd = inv.qd_rad_s;
   const auto& f = inv.factors;
   JointRates out;

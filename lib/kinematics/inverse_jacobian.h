@@ -105,22 +105,42 @@ typename N::Real determinant(const SingularFactors<N>& f) {
   return -(((f.c5 * f.s3) * a2a3) * N::to_real(f.r5));
 }
 
-// J^-1 of a twist whose angular velocity is in the frame turned by q1 (TwistQ1).
+// Step 3's planar 3R chain (both entries below): qd2, qd3 and qd4 from the in-plane velocity
+// (bx, bz) of O5 and sigma; then the factors and the status
+template <class N, class Trig>
+void planar_chain(const Trig& t, const SingularFactors<N>& factors, typename N::Real bx, typename N::Real bz,
+                  typename N::Real sigma, JacobianInverse<N>& out) {
+  static constexpr typename N::Band damp_s3 = N::band(arm::kSingularBands.damp_s3);
+  static constexpr typename N::Recip inv_a2 = N::recip_constant(arm::a2);
+  static constexpr typename N::Recip inv_a3 = N::recip_constant(arm::a3);
+  // a2 = a3 on this arm: then 1/(a2 s3) serves both qd2 and qd2 + qd3
+  static constexpr bool equal_links = arm::a2.num * arm::a3.den == arm::a3.num * arm::a2.den;
+  const auto inv_s3 = N::damped_reciprocal(t.s3, damp_s3);
+  const auto inv_a2s3 = inv_s3 * inv_a2;
+  const auto inv_a3s3 = equal_links ? inv_a2s3 : inv_s3 * inv_a3;
+  const auto qd2 = N::dot(t.s23, bz, -t.c23, bx) * inv_a2s3;
+  const auto qd23 = N::dot(t.c2, bx, -t.s2, bz) * inv_a3s3;
+
+  out.qd_rad_s[1] = qd2;
+  out.qd_rad_s[2] = qd23 - qd2;
+  out.qd_rad_s[3] = sigma - qd23;
+  out.factors.c5 = factors.c5;
+  out.factors.s3 = factors.s3;
+  out.factors.r5 = factors.r5;
+  out.status = singular_status<N>(factors);
+}
+
+// J^-1 of v (base frame) and w in the frame turned by q1 (TwistQ1's members).
 // kTurning = false: the twist has no angular velocity (the translation modes), and the terms
 // of w are left out. Bit-identical to kTurning = true with w = 0: a product of a zero Real is
 // zero, and dot(a, 0, b, y) = b y exactly (fixed_point.h; test_kinematics_fixed checks it,
 // test/sim_kinematics on the AVR). It saves seven of J^-1's eleven fused products.
 template <class N, bool kTurning, class Trig>
-JacobianInverse<N> inverse_jacobian_of(const Trig& t, const TwistQ1<N>& twist) {
+JacobianInverse<N> inverse_jacobian_of(const Trig& t, const Vec3<typename N::Real>& v, const Vec3<typename N::Real>& w) {
   static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);
-  static constexpr typename N::Band damp_s3 = N::band(arm::kSingularBands.damp_s3);
   static constexpr typename N::Band damp_r5 = N::band(arm::kSingularBands.damp_r5_m);
   static constexpr typename N::Unit d6 = N::unit(arm::d6);
   static constexpr typename N::Unit a4 = N::unit(arm::a4);
-  static constexpr typename N::Recip inv_a2 = N::recip_constant(arm::a2);
-  static constexpr typename N::Recip inv_a3 = N::recip_constant(arm::a3);
-  // a2 = a3 on this arm: then 1/(a2 s3) serves both qd2 and qd2 + qd3
-  static constexpr bool equal_links = arm::a2.num * arm::a3.den == arm::a3.num * arm::a2.den;
 
   // Results go into out as soon as they are known (fewer values kept aside), the factors
   // member by member (a struct copy is a byte loop on the AVR).
@@ -128,8 +148,6 @@ JacobianInverse<N> inverse_jacobian_of(const Trig& t, const TwistQ1<N>& twist) {
   JacobianInverse<N> out;
 
   // v in the frame turned by q1 (N::dot(a, x, b, y) is a x + b y); w is there already
-  const auto& v = twist.v_m_s;
-  const auto& w = twist.w_q1_rad_s;
   const typename N::Real zero{};
   const auto vx = N::dot(t.c1, v.x, t.s1, v.y);
   const auto vy = N::dot(t.c1, v.y, -t.s1, v.x);
@@ -156,20 +174,13 @@ JacobianInverse<N> inverse_jacobian_of(const Trig& t, const TwistQ1<N>& twist) {
   const auto g = kTurning ? N::dot(c5d6, wy, -a4, sigma) : -a4 * sigma;
   const auto bx = (kTurning ? N::dot(s5d6, w.z, t.s234, g) : t.s234 * g) - vx;
   const auto bz = (kTurning ? N::dot(s5d6, wx, t.c234, g) : t.c234 * g) + v.z;
-  const auto inv_s3 = N::damped_reciprocal(t.s3, damp_s3);
-  const auto inv_a2s3 = inv_s3 * inv_a2;
-  const auto inv_a3s3 = equal_links ? inv_a2s3 : inv_s3 * inv_a3;
-  const auto qd2 = N::dot(t.s23, bz, -t.c23, bx) * inv_a2s3;
-  const auto qd23 = N::dot(t.c2, bx, -t.s2, bz) * inv_a3s3;
-
-  out.qd_rad_s[1] = qd2;
-  out.qd_rad_s[2] = qd23 - qd2;
-  out.qd_rad_s[3] = sigma - qd23;
-  out.factors.c5 = factors.c5;
-  out.factors.s3 = factors.s3;
-  out.factors.r5 = factors.r5;
-  out.status = singular_status<N>(factors);
+  planar_chain<N>(t, factors, bx, bz, sigma, out);
   return out;
+}
+
+template <class N, bool kTurning, class Trig>
+JacobianInverse<N> inverse_jacobian_of(const Trig& t, const TwistQ1<N>& twist) {
+  return inverse_jacobian_of<N, kTurning>(t, twist.v_m_s, twist.w_q1_rad_s);
 }
 
 // The base-frame entry: w turned back by q1 first (the arithmetic J^-1 always did), then the same.
@@ -209,6 +220,83 @@ template <class N, class Trig>
 JacobianInverse<N> inverse_jacobian_q1(const Trig& t, const TwistQ1<N>& twist) {
   if (!turning(twist)) return inverse_jacobian_path<N, false>(t, twist);
   return inverse_jacobian_path<N, true>(t, twist);
+}
+
+// The rotation modes' twist: w as its components about the wrist frame's axes x5, y5, z5
+// (wrist_frame.h), the axes the modes turn about (core/stick_twist.h); v in the base frame.
+template <class N>
+struct TwistWrist {
+  Vec3<typename N::Real> v_m_s;     // linear velocity of the frame-6 origin, base frame
+  Vec3<typename N::Real> w5_rad_s;  // angular velocity about x5, y5, z5
+};
+
+// A base-frame twist's w about the wrist axes (the telemetry's velocity command): turned back
+// by q1, then w.x5 = s5 n + c5 wy', w.y5 = c5 n - s5 wy', w.z5 = s234 wx' - c234 wz' with
+// n = c234 wx' + s234 wz' (the axes of wrist_frame.h in the frame turned by q1)
+template <class N, class Trig>
+TwistWrist<N> twist_wrist(const Trig& t, const Twist<N>& twist) {
+  const Vec3<typename N::Real> w = angular_velocity_q1<N>(t, twist.w_rad_s);
+  const auto n = N::dot(t.c234, w.x, t.s234, w.z);
+  return TwistWrist<N>{twist.v_m_s, {N::dot(t.s5, n, t.c5, w.y), N::dot(t.c5, n, -t.s5, w.y), N::dot(t.s234, w.x, -t.c234, w.z)}};
+}
+
+// J^-1 of a TwistWrist. With w = A x5 + B y5 + C z5, x5 = (s5 c234, c5, s5 s234),
+// y5 = (c234 c5, -s5, s234 c5) and z5 = (s234, 0, -c234) in the frame turned by q1, the terms
+// of inverse_jacobian_of collapse (the axes are orthonormal):
+//   m = C,  c234 wx + s234 wz = s5 A + c5 B,  wy = c5 A - s5 B,
+//   s5d6 wz + s234 c5d6 wy = s234 d6 A - c234 s5d6 C,  s5d6 wx + c234 c5d6 wy = c234 d6 A + s234 s5d6 C
+// and so, with h = d6 A - a4 sigma:
+//   qd1 = (vy + C c5d6) / R5,  qd5 = C + qd1 c234,  qd6 = (s5 A + c5 B - s234 qd1) / c5,
+//   sigma = s5 (B - qd6) - c5 A,  bx = s234 h - c234 s5d6 C - vx,  bz = c234 h + s234 s5d6 C + v.z
+// w is never formed in another frame: the rotation modes give A, B, C from the stick, and the
+// products that turned them into w and J^-1's that took them out again are gone (with their
+// rounding). A is 0 in R1 and C in R2 (a run-time test each: their terms are left out).
+template <class N, class Trig>
+JacobianInverse<N> inverse_jacobian_of_wrist(const Trig& t, const TwistWrist<N>& twist) {
+  static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);
+  static constexpr typename N::Band damp_r5 = N::band(arm::kSingularBands.damp_r5_m);
+  static constexpr typename N::Unit d6 = N::unit(arm::d6);
+  static constexpr typename N::Unit a4 = N::unit(arm::a4);
+
+  const SingularFactors<N> factors = singular_factors<N>(t);
+  JacobianInverse<N> out;
+  const auto& v = twist.v_m_s;
+  const auto& w = twist.w5_rad_s;
+  const bool about_x5 = !N::is_zero(w.x);
+  const auto vx = N::dot(t.c1, v.x, t.s1, v.y);
+  const auto vy = N::dot(t.c1, v.y, -t.s1, v.x);
+
+  const auto qd1 = (vy + w.z * (t.c5 * d6)) * N::damped_reciprocal(factors.r5, damp_r5);
+  out.qd_rad_s[0] = qd1;
+  out.qd_rad_s[4] = w.z + qd1 * t.c234;
+  const auto cos_part = N::dot(t.c5, w.y, -t.s234, qd1);
+  const auto qd6 = (about_x5 ? cos_part + t.s5 * w.x : cos_part) * N::damped_reciprocal(t.c5, damp_c5);
+  out.qd_rad_s[5] = qd6;
+  const auto sigma = about_x5 ? N::dot(t.s5, w.y - qd6, -t.c5, w.x) : t.s5 * (w.y - qd6);
+  const auto h = about_x5 ? N::dot(d6, w.x, -a4, sigma) : -a4 * sigma;
+  const auto e = (t.s5 * d6) * w.z;
+  const auto bx = N::dot(t.s234, h, -t.c234, e);
+  const auto bz = N::dot(t.c234, h, t.s234, e);
+  planar_chain<N>(t, factors, bx - vx, bz + v.z, sigma, out);
+  return out;
+}
+
+template <class N, class Trig>
+__attribute__((noinline, flatten)) JacobianInverse<N> inverse_jacobian_wrist_path(const Trig& t, const TwistWrist<N>& twist) {
+  return inverse_jacobian_of_wrist<N>(t, twist);
+}
+
+// the translation path of a twist's v alone (w unused: v stands in for it)
+template <class N, class Trig>
+__attribute__((noinline, flatten)) JacobianInverse<N> inverse_jacobian_translation(const Trig& t, const Vec3<typename N::Real>& v) {
+  return inverse_jacobian_of<N, false>(t, v, v);
+}
+
+// w about the wrist axes: without it the translation path, bit for bit the other entries' own
+template <class N, class Trig>
+JacobianInverse<N> inverse_jacobian_wrist(const Trig& t, const TwistWrist<N>& twist) {
+  if (!turning<N>(twist.w5_rad_s)) return inverse_jacobian_translation<N>(t, twist.v_m_s);
+  return inverse_jacobian_wrist_path<N>(t, twist);
 }
 
 // flatten: avr-gcc then inlines the trig set into the body before it splits structs into

@@ -21,8 +21,8 @@ Vec3<typename N::Unit> turned_by_q1(const Trig& t, const Vec3<typename N::Unit>&
   return Vec3<typename N::Unit>{t.c1 * v.x - t.s1 * v.y, t.s1 * v.x + t.c1 * v.y, v.z};
 }
 
-// the axes in the frame turned by q1 (core/stick_twist.h writes the rotation modes' angular
-// velocity out from these, in that frame)
+// the axes in the frame turned by q1 (inverse_jacobian.h's J^-1 of w about them, the rotation
+// modes', is written out from these)
 template <class N, class Trig>
 WristAxes<N> wrist_axes_turned(const Trig& t) {
   WristAxes<N> a;

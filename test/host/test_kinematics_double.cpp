@@ -74,6 +74,41 @@ TEST(InverseJacobianDouble, MatchesEigenInverseOfGeometricJacobian) {
   EXPECT_LT(worst_det, 1e-9);
 }
 
+// The wrist-axes entry (the rotation modes' J^-1): w given about x5, y5, z5 as the DH frame 5's
+// columns, with no x5 component (R1's shape), no z5 component (R2's) or all three (a base-frame
+// command), and the base-frame twist turned into it by twist_wrist, all against Eigen.
+TEST(InverseJacobianDouble, WristAxesEntryMatchesEigen) {
+  std::mt19937_64 rng(35);
+  std::uniform_real_distribution<double> v(-0.15, 0.15), w(-0.8, 0.8);
+  double worst = 0, worst_turned = 0;
+  int checked = 0;
+  for (int n = 0; n < kPoses; ++n) {
+    const auto q = ref::random_joints(rng);
+    const ref::Mat6 j = ref::geometric_jacobian(q);
+    const auto trig = kin::arm_trig<D>(to_angles(q));
+    if (kin::singular_status<D>(kin::singular_factors<D>(trig)) == kin::SingularStatus::singular) continue;
+    const Eigen::Matrix3d r5 = ref::frames(q)[4].block<3, 3>(0, 0);
+    kin::TwistWrist<D> twist{{v(rng), v(rng), v(rng)}, {w(rng), w(rng), w(rng)}};
+    if (n % 3 == 0) twist.w5_rad_s.x = 0;
+    if (n % 3 == 1) twist.w5_rad_s.z = 0;
+    const Eigen::Vector3d w_base = twist.w5_rad_s.x * r5.col(0) + twist.w5_rad_s.y * r5.col(1) + twist.w5_rad_s.z * r5.col(2);
+    ref::Vec6 nu;
+    nu << twist.v_m_s.x, twist.v_m_s.y, twist.v_m_s.z, w_base;
+    const ref::Vec6 expected = j.partialPivLu().solve(nu);
+    const auto inv = kin::inverse_jacobian_wrist<D>(trig, twist);
+    const auto turned = kin::inverse_jacobian_wrist<D>(
+        trig, kin::twist_wrist<D>(trig, kin::Twist<D>{twist.v_m_s, {w_base[0], w_base[1], w_base[2]}}));
+    ref::Vec6 got, got_turned;
+    for (int i = 0; i < 6; ++i) got[i] = inv.qd_rad_s[i], got_turned[i] = turned.qd_rad_s[i];
+    worst = std::max(worst, (got - expected).norm() / expected.norm());
+    worst_turned = std::max(worst_turned, (got_turned - expected).norm() / expected.norm());
+    ++checked;
+  }
+  EXPECT_GT(checked, kPoses * 3 / 4);
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(worst_turned, 1e-9);
+}
+
 // The thesis's test vector, recomputed from the correct Jacobian (seed2-digest appendix)
 TEST(InverseJacobianDouble, DigestTestVector) {
   const ref::Joints q = {0.4, 0.3, -0.5, 0.9, 0.7, 0.2};

@@ -228,4 +228,43 @@ TEST(InverseJacobianFixed, FrameTurnedByQ1EntryIsTheBaseFrameEntry) {
   EXPECT_LT(worst_apart, 1e-3);
 }
 
+// The wrist-axes entry (the rotation modes' J^-1) in fixed point against Eigen, w about the DH
+// frame 5's axes: R1's shape (no x5 component), R2's (no z5) and all three; and a zero w takes
+// the translation path, bit for bit the other entries'.
+TEST(InverseJacobianFixed, WristAxesEntryWithinTheAccuracyGate) {
+  std::mt19937_64 rng(36);
+  std::uniform_real_distribution<double> v(-0.15, 0.15), w(-0.8, 0.8);
+  double worst[3] = {0, 0, 0};
+  int checked = 0;
+  for (int n = 0; n < kPoses; ++n) {
+    const auto q = ref::random_joints(rng);
+    const auto trig = kin::jacobian_trig<Fixed>(to_fixed(q));
+    const int shape = n % 3;
+    kin::TwistWrist<Fixed> twist{{fx::real(v(rng)), fx::real(v(rng)), fx::real(v(rng))},
+                                 {fx::real(w(rng)), fx::real(w(rng)), fx::real(w(rng))}};
+    if (shape == 0) twist.w5_rad_s.x = fx::Real{0};
+    if (shape == 1) twist.w5_rad_s.z = fx::Real{0};
+    const auto inv = kin::inverse_jacobian_wrist<Fixed>(trig, twist);
+    const kin::TwistWrist<Fixed> still{twist.v_m_s, {fx::Real{0}, fx::Real{0}, fx::Real{0}}};
+    const auto translation = kin::inverse_jacobian_wrist<Fixed>(trig, still);
+    const auto other = kin::inverse_jacobian_q1<Fixed>(trig, kin::TwistQ1<Fixed>{twist.v_m_s, still.w5_rad_s});
+    for (int j = 0; j < 6; ++j) ASSERT_EQ(translation.qd_rad_s[j].raw, other.qd_rad_s[j].raw) << "pose " << n;
+    if (inv.status != kin::SingularStatus::ok) continue;
+    const ref::Joints qq = quantised(q);
+    const Eigen::Matrix3d r5 = ref::frames(qq)[4].block<3, 3>(0, 0);
+    const auto& w5 = twist.w5_rad_s;
+    ref::Vec6 nu;
+    nu << fx::to_double(twist.v_m_s.x), fx::to_double(twist.v_m_s.y), fx::to_double(twist.v_m_s.z),
+        fx::to_double(w5.x) * r5.col(0) + fx::to_double(w5.y) * r5.col(1) + fx::to_double(w5.z) * r5.col(2);
+    const ref::Vec6 expected = ref::geometric_jacobian(qq).partialPivLu().solve(nu);
+    worst[shape] = std::max(worst[shape], (to_eigen(inv) - expected).norm() / expected.norm());
+    ++checked;
+  }
+  std::printf("J^-1 of w about the wrist axes over %d poses, worst relative error: without x5 %.2e, without z5 %.2e, "
+              "all three %.2e\n",
+              checked, worst[0], worst[1], worst[2]);
+  EXPECT_GT(checked, kPoses / 2);
+  for (double e : worst) EXPECT_LT(e, 1e-3);
+}
+
 }  // namespace
