@@ -52,6 +52,13 @@ struct DriveSpeeds {
   fx::Real negative_rad_s[arm::kJoints];
 };
 
+// steps 2 to 4: the common factor and why
+struct RateScale {
+  fx::Unit scale;  // the common factor s to apply to J^-1 twist, in [0, 1]
+  kin::SingularStatus status;
+  uint8_t slowed_by;  // SlowReason bits
+};
+
 struct JointRates {
   fx::Real qd_rad_s[arm::kJoints];
   fx::Unit scale;  // the common factor s applied to J^-1 twist, in [0, 1]
@@ -141,11 +148,16 @@ inline fx::Real scaled(fx::Unit s, fx::Real x) { return s.raw == fx::kUnitOne ||
 // is rounded down by two steps, more than the error of the table reciprocal and of the
 // product, so the limit holds exactly rather than to within rounding. scaled(s, |qd|) never
 // exceeds |qd| (s < 1, the product rounds down), so a speed within the limit needs no product.
+// The quotient out of line: the joint loops that call limit_scale need it for a joint or two
+// a pass at most, and keep their pointers in registers without it.
+__attribute__((noinline)) inline fx::Unit slower_scale(fx::Real speed, fx::Real allowed) {
+  const fx::Unit quotient = fraction(allowed * fx::reciprocal(speed));
+  return fx::Unit{(int16_t)(quotient.raw > 2 ? quotient.raw - 2 : 0)};
+}
 inline fx::Unit limit_scale(fx::Unit s, fx::Real qd, fx::Real allowed) {
   const fx::Real speed{qd.raw < 0 ? -qd.raw : qd.raw};
   if (!(allowed < speed) || !(allowed < scaled(s, speed))) return s;
-  const fx::Unit quotient = fraction(allowed * fx::reciprocal(speed));
-  return fx::Unit{(int16_t)(quotient.raw > 2 ? quotient.raw - 2 : 0)};
+  return slower_scale(speed, allowed);
 }
 
 // (x + 8191) >> 13 modulo 2^32 (ceil(x / 2^13) below 2^32 - 8191) by whole bytes: the high
@@ -192,9 +204,12 @@ __attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimit
   return allowed;
 }
 
+// Steps 2 to 4 for J^-1 twist (inv): the factor s, which the caller applies (scaled(s, qd_j)
+// for each joint: the firmware in its acceleration limit's pass over the joints, without a
+// pass of its own)
 template <class Trig>
-JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::TwistWrist<Fixed>& twist,
-                         const MotionLimits& limits, const DriveSpeeds* drives = nullptr) {
+RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::JacobianInverse<Fixed>& inv,
+                     const MotionLimits& limits, const DriveSpeeds* drives = nullptr) {
   static constexpr fx::Unit kA2 = fx::unit(arm::a2), kA3 = fx::unit(arm::a3), kA4 = fx::unit(arm::a4);
   static constexpr int32_t kDampC5 = fx::unit(arm::kSingularBands.damp_c5).raw;
   static constexpr int32_t kSlowC5 = fx::unit(arm::kSingularBands.slow_c5).raw;
@@ -203,10 +218,9 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
   static constexpr int32_t kDampR5 = fx::unit(arm::kSingularBands.damp_r5_m).raw;
   static constexpr int32_t kSlowR5 = fx::unit(arm::kSingularBands.slow_r5_m).raw;
 
-  const auto inv = kin::inverse_jacobian_wrist<Fixed>(t, twist);
   const fx::Real* qd = inv.qd_rad_s;
   const auto& f = inv.factors;
-  JointRates out;
+  RateScale out;
   out.status = inv.status;
   out.slowed_by = 0;
   fx::Unit s{(int16_t)fx::kUnitOne};
@@ -254,7 +268,20 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
   }
 
   out.scale = s;
-  for (uint8_t j = 0; j < arm::kJoints; ++j) out.qd_rad_s[j] = scaled(s, qd[j]);
+  return out;
+}
+
+// Steps 1 to 4: the joint velocities, scaled
+template <class Trig>
+JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::TwistWrist<Fixed>& twist,
+                         const MotionLimits& limits, const DriveSpeeds* drives = nullptr) {
+  const auto inv = kin::inverse_jacobian_wrist<Fixed>(t, twist);
+  const RateScale r = rate_scale(q, t, inv, limits, drives);
+  JointRates out;
+  for (uint8_t j = 0; j < arm::kJoints; ++j) out.qd_rad_s[j] = scaled(r.scale, inv.qd_rad_s[j]);
+  out.scale = r.scale;
+  out.status = r.status;
+  out.slowed_by = r.slowed_by;
   return out;
 }
 
