@@ -76,7 +76,10 @@ struct JointMotionLimits {
   fx::Angle soft_min;
   fx::Angle soft_max;
   int32_t brake_from;   // Angle counts: closer to a soft stop, braking limits the speed
-  int32_t near_from;    // the larger of brake_from and the zone: closer, near_stop_speed (one test)
+  // closer than the larger of brake_from and the zone, near_stop_speed: as angles (a joint
+  // moving up beyond near_max, or down below near_min), one comparison without the distance
+  fx::Angle near_max;
+  fx::Angle near_min;
   // the braking speed squared, (2^-10 rad/s)^2 per Angle count, Q8 rounded down (the braking
   // speed at most 3/4 a's): with brake_from < 2^16, v is one 16x16 product and a byte shift
   uint16_t brake_speed_sq_q8;
@@ -98,12 +101,16 @@ constexpr int32_t near_from_counts(int32_t brake_from) { return brake_from > kSo
 
 constexpr JointMotionLimits joint_motion_limits(uint8_t j) {
   using L = kin::JointLimits<Fixed>;
-  return JointMotionLimits{fx::real(Ratio{config::kJointSpeedLimit_crad_s[j], 100}),
-                           fx::Angle{L::min[j].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
-                           fx::Angle{L::max[j].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
-                           brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]),
-                           near_from_counts(brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j])),
-                           (uint16_t)(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]) * 256.0)};
+  return JointMotionLimits{
+      fx::real(Ratio{config::kJointSpeedLimit_crad_s[j], 100}),
+      fx::Angle{L::min[j].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+      fx::Angle{L::max[j].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+      brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]),
+      fx::Angle{L::max[j].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw -
+                near_from_counts(brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]))},
+      fx::Angle{L::min[j].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw +
+                near_from_counts(brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]))},
+      (uint16_t)(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]) * 256.0)};
 }
 // the braking distance and the braking speed's factor in 16 bits for every joint (a scale,
 // ~110 cycles with its shift by a run-time exponent, was what the configuration needed beyond)
@@ -248,11 +255,11 @@ RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin:
   for (uint8_t j = 0; j < arm::kJoints; ++j) {
     const JointMotionLimits& limit = limits.joint[j];
     fx::Real allowed = limit.speed_rad_s;
-    if (qd[j].raw != 0) {
-      const int32_t distance = qd[j].raw > 0 ? limit.soft_max.raw - q.q[j].raw : q.q[j].raw - limit.soft_min.raw;
-      if (distance < limit.near_from) {
-        allowed = near_stop_speed(limit, distance, s, qd[j]);
-      }
+    // (distance < near_from, the distance soft_max - q or q - soft_min, as q beyond near_max
+    // or near_min: the same integers, without the subtraction where it is not needed)
+    const int32_t a = q.q[j].raw;
+    if (qd[j].raw > 0 ? a > limit.near_max.raw : qd[j].raw < 0 && a < limit.near_min.raw) {
+      allowed = near_stop_speed(limit, qd[j].raw > 0 ? limit.soft_max.raw - a : a - limit.soft_min.raw, s, qd[j]);
     }
     uint8_t reason = allowed < limit.speed_rad_s ? kSlowSoftLimit : kSlowJointSpeed;
     if (drives) {
