@@ -498,7 +498,7 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   twist.v_m_s.z = v_cmd.z + g_drift_m_s.z;
 
   kin::JacobianInverse<Fixed> inv = kin::inverse_jacobian_wrist<Fixed>(trig, twist);
-  const core::RateScale rates = core::rate_scale(q, trig, inv, kLimits, &g_drives);
+  const core::RateScale rates = core::rate_scale(q, trig, inv, kLimits, g_drives);
   g_status.slowed_by = (uint8_t)(rates.slowed_by | (tracking.raw < fx::kUnitOne ? core::kSlowTracking : 0));
   fx::Real max_change[6];  // a pass's is the table (32-bit products otherwise)
   if (ticks != kMotionPeriod_ticks) {

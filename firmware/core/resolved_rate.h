@@ -216,7 +216,7 @@ __attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimit
 // pass of its own)
 template <class Trig>
 RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::JacobianInverse<Fixed>& inv,
-                     const MotionLimits& limits, const DriveSpeeds* drives = nullptr) {
+                     const MotionLimits& limits, const DriveSpeeds& drives) {
   static constexpr fx::Unit kA2 = fx::unit(arm::a2), kA3 = fx::unit(arm::a3), kA4 = fx::unit(arm::a4);
   static constexpr int32_t kDampC5 = fx::unit(arm::kSingularBands.damp_c5).raw;
   static constexpr int32_t kSlowC5 = fx::unit(arm::kSingularBands.slow_c5).raw;
@@ -262,12 +262,10 @@ RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin:
       allowed = near_stop_speed(limit, qd[j].raw > 0 ? limit.soft_max.raw - a : a - limit.soft_min.raw, s, qd[j]);
     }
     uint8_t reason = allowed < limit.speed_rad_s ? kSlowSoftLimit : kSlowJointSpeed;
-    if (drives) {
-      const fx::Real drive = qd[j].raw >= 0 ? drives->positive_rad_s[j] : drives->negative_rad_s[j];
-      if (drive < allowed) {
-        allowed = drive;
-        reason = kSlowDriveLoad;
-      }
+    const fx::Real drive = qd[j].raw >= 0 ? drives.positive_rad_s[j] : drives.negative_rad_s[j];
+    if (drive < allowed) {
+      allowed = drive;
+      reason = kSlowDriveLoad;
     }
     const fx::Unit before = s;
     s = limit_scale(s, qd[j], allowed);
@@ -278,12 +276,19 @@ RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin:
   return out;
 }
 
-// Steps 1 to 4: the joint velocities, scaled
+// drives at the joints' speed limits: they never slow a joint (allowed is at most the limit)
+inline DriveSpeeds drives_at_speed_limits(const MotionLimits& limits) {
+  DriveSpeeds d;
+  for (uint8_t j = 0; j < arm::kJoints; ++j) d.positive_rad_s[j] = d.negative_rad_s[j] = limits.joint[j].speed_rad_s;
+  return d;
+}
+
+// Steps 1 to 4: the joint velocities, scaled (without drives: none slows a joint)
 template <class Trig>
 JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::TwistWrist<Fixed>& twist,
                          const MotionLimits& limits, const DriveSpeeds* drives = nullptr) {
   const auto inv = kin::inverse_jacobian_wrist<Fixed>(t, twist);
-  const RateScale r = rate_scale(q, t, inv, limits, drives);
+  const RateScale r = rate_scale(q, t, inv, limits, drives ? *drives : drives_at_speed_limits(limits));
   JointRates out;
   for (uint8_t j = 0; j < arm::kJoints; ++j) out.qd_rad_s[j] = scaled(r.scale, inv.qd_rad_s[j]);
   out.scale = r.scale;
