@@ -497,13 +497,14 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   twist.v_m_s.y = v_cmd.y + g_drift_m_s.y;
   twist.v_m_s.z = v_cmd.z + g_drift_m_s.z;
 
-  const core::JointRates rates = core::resolved_rate(q, trig, twist, kLimits, &g_drives);
+  kin::JacobianInverse<Fixed> inv = kin::inverse_jacobian_wrist<Fixed>(trig, twist);
+  const core::RateScale rates = core::rate_scale(q, trig, inv, kLimits, g_drives);
   g_status.slowed_by = (uint8_t)(rates.slowed_by | (tracking.raw < fx::kUnitOne ? core::kSlowTracking : 0));
   fx::Real max_change[6];  // a pass's is the table (32-bit products otherwise)
   if (ticks != kMotionPeriod_ticks) {
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
   }
-  const fx::Unit k = core::limit_joint_acceleration(g_qd, rates.qd_rad_s, ticks == kMotionPeriod_ticks ? kMaxSpeedChangePerPass : max_change);
+  const fx::Unit k = core::limit_joint_acceleration(g_qd, inv.qd_rad_s, rates.scale, ticks == kMotionPeriod_ticks ? kMaxSpeedChangePerPass : max_change);
   // the hand's commanded velocity as far as g_qd has reached it; neither limit slowing it (most
   // ticks), g + (v - g) is v itself
   if (k.raw == fx::kUnitOne && rates.scale.raw == fx::kUnitOne) {

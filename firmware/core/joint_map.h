@@ -145,12 +145,15 @@ struct JointReferences {
 
 static_assert(kRateToAngleQ16PerTick.e == -1 && kRateToAngleQ16PerTick.m > 0,
               "advance_all's step is apply()'s mul_q16 alone (two ticks': mul_q15), of a positive factor");
+static_assert((kRateToAngleQ16PerTick.m & 0xFF) < 0x80, "two ticks' factor 2m: its low byte twice m's, without a carry");
 #if defined(__AVR__)
 // One asm loop (avr-gcc's six-joint loop reloaded its pointers and `ticks` from the stack,
 // ~113 cycles a joint): Z walks the angles (the velocity at Z+24), X the fractions. Per joint
-// fixed_point.h's mul_q16 without the factor's sign (m > 0), for two ticks shifted one bit up
-// as in mul_q15, the fraction added and stored, the whole counts (bytes 2-3, sign-extended)
-// added to the angle. r1 is restored once, at the end.
+// fixed_point.h's mul_q16 without the factor's sign (m > 0), the fraction added and stored,
+// the whole counts (bytes 2-3, sign-extended) added to the angle. r1 is restored once, at the
+// end. Two ticks' step is the product by 2m (unsigned, below 2^16): with lo8(m) < 128 its
+// left-out term lo8(x) lo8(2m) is twice m's, so bytes 2-5 are mul_q15's floor of the product
+// by m, without its shift (7 cycles a joint).
 inline void JointReferences::advance_all(bool two_ticks) {
   static_assert(offsetof(JointReferences, qd_rad_s) == offsetof(JointReferences, q) + 24, "each velocity 24 bytes after its angle");
   fx::Angle* angle = q.q;
@@ -165,9 +168,6 @@ inline void JointReferences::advance_all(bool two_ticks) {
       "ldd   %B[x], Z+25\n\t"
       "ldd   %C[x], Z+26\n\t"
       "ldd   %D[x], Z+27\n\t" WMRA_MUL32X16_SET_ASM(x, c) WMRA_REAL_SIGN_ASM(x, c, 2)
-      "sbrs  %[two], 0\n\t"
-      "rjmp  4f\n\t" WMRA_SHIFT_Q15_ASM "\n"
-      "4:\n\t"
       "ld    %A[x], X+\n\t"  // + the carried fraction, whose new value is the low half
       "ld    %B[x], X\n\t"
       "add   %A[r], %A[x]\n\t"
@@ -198,7 +198,7 @@ inline void JointReferences::advance_all(bool two_ticks) {
       "3:\n\t"
       "clr   __zero_reg__"
       : [x] "=&r"(x), [r] "=&r"(r), [t] "=&r"(t), [z] "=&r"(z), [n] "=&d"(n), [q] "+z"(angle), [f] "+x"(carried)
-      : [c] "r"(kRateToAngleQ16PerTick.m), [two] "r"((uint8_t)two_ticks)
+      : [c] "r"((uint16_t)(two_ticks ? 2 * kRateToAngleQ16PerTick.m : kRateToAngleQ16PerTick.m))
       : "memory");
 }
 #else

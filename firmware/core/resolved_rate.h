@@ -52,6 +52,13 @@ struct DriveSpeeds {
   fx::Real negative_rad_s[arm::kJoints];
 };
 
+// steps 2 to 4: the common factor and why
+struct RateScale {
+  fx::Unit scale;  // the common factor s to apply to J^-1 twist, in [0, 1]
+  kin::SingularStatus status;
+  uint8_t slowed_by;  // SlowReason bits
+};
+
 struct JointRates {
   fx::Real qd_rad_s[arm::kJoints];
   fx::Unit scale;  // the common factor s applied to J^-1 twist, in [0, 1]
@@ -69,7 +76,10 @@ struct JointMotionLimits {
   fx::Angle soft_min;
   fx::Angle soft_max;
   int32_t brake_from;   // Angle counts: closer to a soft stop, braking limits the speed
-  int32_t near_from;    // the larger of brake_from and the zone: closer, near_stop_speed (one test)
+  // closer than the larger of brake_from and the zone, near_stop_speed: as angles (a joint
+  // moving up beyond near_max, or down below near_min), one comparison without the distance
+  fx::Angle near_max;
+  fx::Angle near_min;
   // the braking speed squared, (2^-10 rad/s)^2 per Angle count, Q8 rounded down (the braking
   // speed at most 3/4 a's): with brake_from < 2^16, v is one 16x16 product and a byte shift
   uint16_t brake_speed_sq_q8;
@@ -91,12 +101,16 @@ constexpr int32_t near_from_counts(int32_t brake_from) { return brake_from > kSo
 
 constexpr JointMotionLimits joint_motion_limits(uint8_t j) {
   using L = kin::JointLimits<Fixed>;
-  return JointMotionLimits{fx::real(Ratio{config::kJointSpeedLimit_crad_s[j], 100}),
-                           fx::Angle{L::min[j].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
-                           fx::Angle{L::max[j].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
-                           brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]),
-                           near_from_counts(brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j])),
-                           (uint16_t)(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]) * 256.0)};
+  return JointMotionLimits{
+      fx::real(Ratio{config::kJointSpeedLimit_crad_s[j], 100}),
+      fx::Angle{L::min[j].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+      fx::Angle{L::max[j].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw},
+      brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]),
+      fx::Angle{L::max[j].raw - fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw -
+                near_from_counts(brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]))},
+      fx::Angle{L::min[j].raw + fx::angle_deg(Ratio{config::kSoftLimitMargin_deg, 1}).raw +
+                near_from_counts(brake_from_counts(config::kJointSpeedLimit_crad_s[j], config::kJointAccelLimit_crad_s2[j]))},
+      (uint16_t)(brake_speed_sq_per_count(config::kJointAccelLimit_crad_s2[j]) * 256.0)};
 }
 // the braking distance and the braking speed's factor in 16 bits for every joint (a scale,
 // ~110 cycles with its shift by a run-time exponent, was what the configuration needed beyond)
@@ -141,11 +155,16 @@ inline fx::Real scaled(fx::Unit s, fx::Real x) { return s.raw == fx::kUnitOne ||
 // is rounded down by two steps, more than the error of the table reciprocal and of the
 // product, so the limit holds exactly rather than to within rounding. scaled(s, |qd|) never
 // exceeds |qd| (s < 1, the product rounds down), so a speed within the limit needs no product.
+// The quotient out of line: the joint loops that call limit_scale need it for a joint or two
+// a pass at most, and keep their pointers in registers without it.
+__attribute__((noinline)) inline fx::Unit slower_scale(fx::Real speed, fx::Real allowed) {
+  const fx::Unit quotient = fraction(allowed * fx::reciprocal(speed));
+  return fx::Unit{(int16_t)(quotient.raw > 2 ? quotient.raw - 2 : 0)};
+}
 inline fx::Unit limit_scale(fx::Unit s, fx::Real qd, fx::Real allowed) {
   const fx::Real speed{qd.raw < 0 ? -qd.raw : qd.raw};
   if (!(allowed < speed) || !(allowed < scaled(s, speed))) return s;
-  const fx::Unit quotient = fraction(allowed * fx::reciprocal(speed));
-  return fx::Unit{(int16_t)(quotient.raw > 2 ? quotient.raw - 2 : 0)};
+  return slower_scale(speed, allowed);
 }
 
 // (x + 8191) >> 13 modulo 2^32 (ceil(x / 2^13) below 2^32 - 8191) by whole bytes: the high
@@ -192,9 +211,12 @@ __attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimit
   return allowed;
 }
 
+// Steps 2 to 4 for J^-1 twist (inv): the factor s, which the caller applies (scaled(s, qd_j)
+// for each joint: the firmware in its acceleration limit's pass over the joints, without a
+// pass of its own)
 template <class Trig>
-JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::TwistWrist<Fixed>& twist,
-                         const MotionLimits& limits, const DriveSpeeds* drives = nullptr) {
+RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::JacobianInverse<Fixed>& inv,
+                     const MotionLimits& limits, const DriveSpeeds& drives) {
   static constexpr fx::Unit kA2 = fx::unit(arm::a2), kA3 = fx::unit(arm::a3), kA4 = fx::unit(arm::a4);
   static constexpr int32_t kDampC5 = fx::unit(arm::kSingularBands.damp_c5).raw;
   static constexpr int32_t kSlowC5 = fx::unit(arm::kSingularBands.slow_c5).raw;
@@ -203,10 +225,9 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
   static constexpr int32_t kDampR5 = fx::unit(arm::kSingularBands.damp_r5_m).raw;
   static constexpr int32_t kSlowR5 = fx::unit(arm::kSingularBands.slow_r5_m).raw;
 
-  const auto inv = kin::inverse_jacobian_wrist<Fixed>(t, twist);
   const fx::Real* qd = inv.qd_rad_s;
   const auto& f = inv.factors;
-  JointRates out;
+  RateScale out;
   out.status = inv.status;
   out.slowed_by = 0;
   fx::Unit s{(int16_t)fx::kUnitOne};
@@ -234,19 +255,17 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
   for (uint8_t j = 0; j < arm::kJoints; ++j) {
     const JointMotionLimits& limit = limits.joint[j];
     fx::Real allowed = limit.speed_rad_s;
-    if (qd[j].raw != 0) {
-      const int32_t distance = qd[j].raw > 0 ? limit.soft_max.raw - q.q[j].raw : q.q[j].raw - limit.soft_min.raw;
-      if (distance < limit.near_from) {
-        allowed = near_stop_speed(limit, distance, s, qd[j]);
-      }
+    // (distance < near_from, the distance soft_max - q or q - soft_min, as q beyond near_max
+    // or near_min: the same integers, without the subtraction where it is not needed)
+    const int32_t a = q.q[j].raw;
+    if (qd[j].raw > 0 ? a > limit.near_max.raw : qd[j].raw < 0 && a < limit.near_min.raw) {
+      allowed = near_stop_speed(limit, qd[j].raw > 0 ? limit.soft_max.raw - a : a - limit.soft_min.raw, s, qd[j]);
     }
     uint8_t reason = allowed < limit.speed_rad_s ? kSlowSoftLimit : kSlowJointSpeed;
-    if (drives) {
-      const fx::Real drive = qd[j].raw >= 0 ? drives->positive_rad_s[j] : drives->negative_rad_s[j];
-      if (drive < allowed) {
-        allowed = drive;
-        reason = kSlowDriveLoad;
-      }
+    const fx::Real drive = qd[j].raw >= 0 ? drives.positive_rad_s[j] : drives.negative_rad_s[j];
+    if (drive < allowed) {
+      allowed = drive;
+      reason = kSlowDriveLoad;
     }
     const fx::Unit before = s;
     s = limit_scale(s, qd[j], allowed);
@@ -254,7 +273,27 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
   }
 
   out.scale = s;
-  for (uint8_t j = 0; j < arm::kJoints; ++j) out.qd_rad_s[j] = scaled(s, qd[j]);
+  return out;
+}
+
+// drives at the joints' speed limits: they never slow a joint (allowed is at most the limit)
+inline DriveSpeeds drives_at_speed_limits(const MotionLimits& limits) {
+  DriveSpeeds d;
+  for (uint8_t j = 0; j < arm::kJoints; ++j) d.positive_rad_s[j] = d.negative_rad_s[j] = limits.joint[j].speed_rad_s;
+  return d;
+}
+
+// Steps 1 to 4: the joint velocities, scaled (without drives: none slows a joint)
+template <class Trig>
+JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::TwistWrist<Fixed>& twist,
+                         const MotionLimits& limits, const DriveSpeeds* drives = nullptr) {
+  const auto inv = kin::inverse_jacobian_wrist<Fixed>(t, twist);
+  const RateScale r = rate_scale(q, t, inv, limits, drives ? *drives : drives_at_speed_limits(limits));
+  JointRates out;
+  for (uint8_t j = 0; j < arm::kJoints; ++j) out.qd_rad_s[j] = scaled(r.scale, inv.qd_rad_s[j]);
+  out.scale = r.scale;
+  out.status = r.status;
+  out.slowed_by = r.slowed_by;
   return out;
 }
 

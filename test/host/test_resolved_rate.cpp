@@ -6,6 +6,7 @@
 
 #include <cstdio>
 
+#include "core/joint_acceleration.h"
 #include "core/resolved_rate.h"
 #include "core/stick_twist.h"
 #include "eigen_reference.h"
@@ -272,6 +273,76 @@ TEST(StickTwist, RotationModesTurnAboutTheFrameFiveAxes) {
   EXPECT_GT(checked, 1000);
   EXPECT_LT(worst_w, 2e-3);
   EXPECT_LT(worst_v, 2e-4);
+}
+
+// The firmware's pass: J^-1's rates scaled by rate_scale's s inside the acceleration limit
+// (in place) give resolved_rate's rates, and the references move as they did when the limit
+// took resolved_rate's scaled rates (s = 1 there: nothing scaled again), with k and every
+// joint's change within its limit. Random poses, twists, last velocities and limits, so that
+// both s and k are below one often.
+TEST(JointAcceleration, ScalingInItsPassIsTheResolvedRate) {
+  std::mt19937_64 rng(35);
+  std::uniform_real_distribution<double> v(-0.6, 0.6), w(-3, 3), size(0.01, 1.0), last(-1.0, 1.0), change(0.0005, 0.05);
+  const fx::Unit one{(int16_t)fx::kUnitOne};
+  int scaled = 0, limited = 0, unlimited = 0;
+  for (int n = 0; n < 5000; ++n) {
+    const auto q = ref::random_joints(rng);
+    const double k = size(rng) * size(rng);
+    const auto t = twist(k * v(rng), k * v(rng), k * v(rng), k * w(rng), k * w(rng), k * w(rng));
+    const auto qf = to_fixed(q);
+    const auto trig = kin::arm_trig<Fixed>(qf);
+    const auto wrist = kin::twist_wrist<Fixed>(trig, t);
+    const core::JointRates r = core::resolved_rate(qf, trig, wrist, kLimits);
+    auto inv = kin::inverse_jacobian_wrist<Fixed>(trig, wrist);
+    const core::RateScale s = core::rate_scale(qf, trig, inv, kLimits, core::drives_at_speed_limits(kLimits));
+    ASSERT_EQ(s.scale.raw, r.scale.raw) << n;
+    fx::Real qd[6], qd_before[6], wanted[6], max_change[6];
+    for (int j = 0; j < 6; ++j) {
+      wanted[j] = r.qd_rad_s[j];
+      max_change[j] = fx::real(change(rng));
+      // every second case near the wanted rates (k = 1 mostly), the others anywhere
+      const fx::Real near{wanted[j].raw + (int32_t)(last(rng) * max_change[j].raw)};
+      qd[j] = qd_before[j] = n % 2 ? near : fx::real(last(rng) * fx::to_double(kLimits.joint[j].speed_rad_s));
+    }
+    const fx::Unit k_before = core::limit_joint_acceleration(qd_before, wanted, one, max_change);
+    const fx::Unit k_now = core::limit_joint_acceleration(qd, inv.qd_rad_s, s.scale, max_change);
+    EXPECT_EQ(k_now.raw, k_before.raw) << n;
+    for (int j = 0; j < 6; ++j) {
+      EXPECT_EQ(inv.qd_rad_s[j].raw, r.qd_rad_s[j].raw) << "pose " << n << " joint " << j + 1;
+      EXPECT_EQ(qd[j].raw, qd_before[j].raw) << "pose " << n << " joint " << j + 1;
+      EXPECT_EQ(wanted[j].raw, r.qd_rad_s[j].raw) << "s = 1 scales nothing: pose " << n;
+    }
+    scaled += s.scale.raw < fx::kUnitOne;
+    limited += k_now.raw < fx::kUnitOne;
+    unlimited += k_now.raw == fx::kUnitOne;
+  }
+  std::printf("%d of 5000 scaled by the resolved rate; %d limited by the acceleration, %d not\n", scaled, limited, unlimited);
+  EXPECT_GT(scaled, 1000);
+  EXPECT_GT(limited, 1000);
+  EXPECT_GT(unlimited, 1000);
+}
+
+// Each joint's change within its limit, to a step of 2^-23 rad/s (k (w - qd) is a floor: a
+// negative change can come out one step larger than k allows), and the velocities on the
+// straight path to the wanted ones: qd + k (w - qd), or w itself at k = 1.
+TEST(JointAcceleration, EveryChangeWithinItsLimit) {
+  std::mt19937_64 rng(36);
+  std::uniform_real_distribution<double> speed(-1.0, 1.0), change(0.0005, 0.05);
+  const fx::Unit one{(int16_t)fx::kUnitOne};
+  for (int n = 0; n < 5000; ++n) {
+    fx::Real qd[6], before[6], wanted[6], max_change[6];
+    for (int j = 0; j < 6; ++j) {
+      qd[j] = before[j] = fx::real(speed(rng));
+      wanted[j] = fx::real(speed(rng));
+      max_change[j] = fx::real(change(rng));
+    }
+    const fx::Unit k = core::limit_joint_acceleration(qd, wanted, one, max_change);
+    for (int j = 0; j < 6; ++j) {
+      EXPECT_LE(std::abs((int64_t)qd[j].raw - before[j].raw), max_change[j].raw + 1) << "case " << n << " joint " << j + 1;
+      const int32_t expected = k.raw == fx::kUnitOne ? wanted[j].raw : before[j].raw + (k * (wanted[j] - before[j])).raw;
+      EXPECT_EQ(qd[j].raw, expected) << "case " << n << " joint " << j + 1;
+    }
+  }
 }
 
 }  // namespace
