@@ -3,55 +3,60 @@
 #include <avr/interrupt.h>
 #include <avr/io.h>
 
+#include "drivers/isr_scratch.h"
 #include "drivers/system_tick.h"
 
 namespace wmra {
 namespace adc {
 
 namespace {
-// Aligned so that the ISR indexes them with an 8-bit add (no carry into the high byte)
-static_assert(kMaxChannels == 8, "the alignments below and snapshot's copy");
-uint8_t g_admux[kMaxChannels] __attribute__((aligned(8)));  // ADMUX of each channel: AVcc reference, channel
-uint8_t g_count;
-volatile uint8_t g_index;  // the channel being converted; g_count: the sweep is done
-volatile uint16_t g_counts[kMaxChannels] __attribute__((aligned(16)));
+static_assert(kMaxChannels == 8, "snapshot's copy");
+// One slot a channel in sweep order: its latest result, then the ADMUX of the channel after it
+// (AVcc reference and channel; 0 after the last: the sweep is done). The ISR walks it with
+// post-incremented loads and stores and tests the next ADMUX's REFS0 bit with sbrs, none of
+// which touches SREG. Aligned within one 256-byte page: the slot pointer is one byte.
+struct Slot {
+  uint16_t count;
+  uint8_t next_admux;
+};
+volatile Slot g_slots[kMaxChannels] __attribute__((aligned(32)));
+static_assert(sizeof g_slots <= 32, "the slots within their alignment: one page");
+uint8_t g_first_admux;
+volatile uint8_t g_slot_lo;  // the low address byte of the slot of the conversion under way
+// enabled, interrupt on, /128 (125 kHz): with ADSC, a conversion started
+constexpr uint8_t kAdcsraOn = (1 << ADEN) | (1 << ADIE) | (1 << ADPS2) | (1 << ADPS1) | (1 << ADPS0);
 
-// ADIF is clear here (no conversion pending), so the read-modify-write of ADCSRA clears nothing
-inline void start_sweep() {
-  g_index = 0;
-  ADMUX = g_admux[0];
-  ADCSRA |= (1 << ADSC);
-}
+inline uint8_t admux(uint8_t channel) { return (uint8_t)((1 << REFS0) | (channel & 7)); }
 }  // namespace
 
 void start(const uint8_t* channels, uint8_t count, uint16_t sweep_phase_us) {
-  g_count = count > kMaxChannels ? kMaxChannels : count;
-  for (uint8_t i = 0; i < g_count; ++i) g_admux[i] = (uint8_t)((1 << REFS0) | (channels[i] & 7));
-  ADCSRB = 0;  // MUX5 = 0: ADC0..7
-  // enable, interrupt, /128 (125 kHz), single conversions
-  ADCSRA = (1 << ADEN) | (1 << ADIE) | (1 << ADPS2) | (1 << ADPS1) | (1 << ADPS0);
+  if (count > kMaxChannels) count = kMaxChannels;
+  g_first_admux = admux(channels[0]);
+  for (uint8_t i = 0; i < count; ++i) g_slots[i].next_admux = i + 1 < count ? admux(channels[i + 1]) : 0;
+  ADCSRB = 0;  // MUX5 = 0: ADC0..7, no auto trigger
+  ADCSRA = kAdcsraOn;
   const uint8_t s = SREG;
   cli();
-  start_sweep();
-  // compare A holds the next tick's count (system_tick.cpp): compare B follows it by the phase
-  OCR1B = (uint16_t)(OCR1A + sweep_phase_us * tick::kCountsPerUs);
-  TIFR1 = (1 << OCF1B);
-  TIMSK1 |= (1 << OCIE1B);
+  // the first sweep now (the ADC is idle: ADIF clear)
+  g_slot_lo = (uint8_t)(uintptr_t)&g_slots[0];
+  ADMUX = g_first_admux;
+  ADCSRA = kAdcsraOn | (1 << ADSC);
   SREG = s;
+  tick::start_phase_compare(sweep_phase_us);
 }
 
 void snapshot(uint16_t* counts) {
   const uint8_t s = SREG;
   cli();
-  // every slot, unrolled: the loop over g_count took ~160 cycles, these 32 moves 64
-  counts[0] = g_counts[0];
-  counts[1] = g_counts[1];
-  counts[2] = g_counts[2];
-  counts[3] = g_counts[3];
-  counts[4] = g_counts[4];
-  counts[5] = g_counts[5];
-  counts[6] = g_counts[6];
-  counts[7] = g_counts[7];
+  // every slot, unrolled: a loop over the channels took ~160 cycles, these 32 moves 64
+  counts[0] = g_slots[0].count;
+  counts[1] = g_slots[1].count;
+  counts[2] = g_slots[2].count;
+  counts[3] = g_slots[3].count;
+  counts[4] = g_slots[4].count;
+  counts[5] = g_slots[5].count;
+  counts[6] = g_slots[6].count;
+  counts[7] = g_slots[7].count;
   SREG = s;
 }
 
@@ -60,89 +65,69 @@ void snapshot(uint16_t* counts) {
 
 using namespace wmra;
 
-// Store the result, start the next channel unless the sweep is done. Assembly, four registers
-// saved: in C the ISR saved eight (r0, r1, RAMPZ among them) and took 98 cycles; it runs eight
-// times a tick.
+// Store the result, start the next channel; after the last, make the next sweep's first channel
+// ready. Assembly without SREG (no instruction here changes it), three registers saved: in C
+// the ISR saved eight (r0, r1, RAMPZ among them) and took 98 cycles; with an index and a
+// compare, 66. Two of the three registers saved in the scratch registers (isr_scratch.h). It
+// runs once a channel a tick.
 ISR(ADC_vect, ISR_NAKED) {
   asm volatile(
-      "push r24\n\t"
-      "in   r24, __SREG__\n\t"
-      "push r24\n\t"
-      "push r25\n\t"
-      "push r30\n\t"
+      "out  %[scratch_a], r24\n\t"
+      "out  %[scratch_b], r30\n\t"
       "push r31\n\t"
-      "lds  r24, %[index]\n\t"
-      "mov  r30, r24\n\t"
-      "lsl  r30\n\t"
-      "subi r30, lo8(-(%[counts]))\n\t"  // aligned: no carry into the high byte
-      "ldi  r31, hi8(%[counts])\n\t"
-      "lds  r25, %[adcl]\n\t"  // ADCL first: it locks ADCH until ADCH is read
-      "st   Z+, r25\n\t"
-      "lds  r25, %[adch]\n\t"
-      "st   Z, r25\n\t"
-      "inc  r24\n\t"
-      "sts  %[index], r24\n\t"
-      "lds  r25, %[count]\n\t"
-      "cp   r24, r25\n\t"
-      "brsh 1f\n\t"
-      "mov  r30, r24\n\t"
-      "subi r30, lo8(-(%[admux]))\n\t"
-      "ldi  r31, hi8(%[admux])\n\t"
-      "ld   r25, Z\n\t"
-      "sts  %[admux_reg], r25\n\t"
-      "lds  r25, %[adcsra]\n\t"
-      "ori  r25, %[adsc]\n\t"
-      "sts  %[adcsra], r25\n"
-      "1:\n\t"
+      "lds  r30, %[slot_lo]\n\t"
+      "ldi  r31, hi8(%[slots])\n\t"
+      "lds  r24, %[adcl]\n\t"  // ADCL first: it locks ADCH until ADCH is read
+      "st   Z+, r24\n\t"
+      "lds  r24, %[adch]\n\t"
+      "st   Z+, r24\n\t"
+      "ld   r24, Z+\n\t"
+      "sbrs r24, %[refs0]\n\t"
+      "rjmp 1f\n\t"
+      "sts  %[admux_reg], r24\n\t"
+      "ldi  r24, %[start]\n\t"
+      "sts  %[adcsra], r24\n\t"
+      "sts  %[slot_lo], r30\n\t"
       "pop  r31\n\t"
-      "pop  r30\n\t"
-      "pop  r25\n\t"
-      "pop  r24\n\t"
-      "out  __SREG__, r24\n\t"
-      "pop  r24\n\t"
+      "in   r30, %[scratch_b]\n\t"
+      "in   r24, %[scratch_a]\n\t"
+      "reti\n"
+      "1:\n\t"
+      "ldi  r30, lo8(%[slots])\n\t"
+      "sts  %[slot_lo], r30\n\t"
+      "lds  r24, %[first]\n\t"
+      "sts  %[admux_reg], r24\n\t"
+      "pop  r31\n\t"
+      "in   r30, %[scratch_b]\n\t"
+      "in   r24, %[scratch_a]\n\t"
       "reti"
       :
-      : [index] "i"(&adc::g_index), [counts] "i"(adc::g_counts), [count] "i"(&adc::g_count), [admux] "i"(adc::g_admux),
+      : [slot_lo] "i"(&adc::g_slot_lo), [slots] "i"(adc::g_slots), [first] "i"(&adc::g_first_admux),
         [adcl] "n"(_SFR_MEM_ADDR(ADCL)), [adch] "n"(_SFR_MEM_ADDR(ADCH)), [admux_reg] "n"(_SFR_MEM_ADDR(ADMUX)),
-        [adcsra] "n"(_SFR_MEM_ADDR(ADCSRA)), [adsc] "n"(1 << ADSC));
+        [adcsra] "n"(_SFR_MEM_ADDR(ADCSRA)), [refs0] "n"(REFS0), [start] "n"(adc::kAdcsraOn | (1 << ADSC)),
+        [scratch_a] "n"(isr_scratch::kA_io), [scratch_b] "n"(isr_scratch::kB_io));
 }
 
-// The sweep's start, every tick at its phase: compare B moved on by a tick, the first channel
-// selected and converted. Assembly like the ADC's, three registers saved (in C: ~45 cycles).
-// A sweep still converting (impossible at one per tick: eight conversions take 832 us) is
-// left to finish.
-static_assert(tick::kTickCounts == 2000, "the asm below adds 2000 to OCR1B");
+// The sweep's start, every tick at its phase (compare B, moved on by the tick's ISR): the first
+// channel is selected already. Only with the ADC idle, neither converting nor holding a result
+// its ISR has yet to store: a sweep still under way (impossible at one per tick: eight
+// conversions take 832 us) is left to finish. Assembly without SREG (lds, sbrc, ldi, sts), one
+// register saved, in a scratch register (isr_scratch.h): 24 cycles; with the compare's move
+// and the first channel's select here, 55 (inside the iteration, which the sweep starts in).
 ISR(TIMER1_COMPB_vect, ISR_NAKED) {
   asm volatile(
-      "push r24\n\t"
-      "in   r24, __SREG__\n\t"
-      "push r24\n\t"
-      "push r25\n\t"
-      "lds  r24, %[ocrl]\n\t"  // the low byte first: it latches the high byte's TEMP
-      "lds  r25, %[ocrh]\n\t"
-      "subi r24, lo8(-2000)\n\t"
-      "sbci r25, hi8(-2000)\n\t"
-      "sts  %[ocrh], r25\n\t"  // the high byte first: written through TEMP with the low one
-      "sts  %[ocrl], r24\n\t"
-      "lds  r24, %[index]\n\t"
-      "lds  r25, %[count]\n\t"
-      "cp   r24, r25\n\t"
-      "brlo 1f\n\t"
-      "clr  r25\n\t"  // (not __zero_reg__: r1 may hold a product's high byte here)
-      "sts  %[index], r25\n\t"
-      "lds  r24, %[admux]\n\t"
-      "sts  %[admux_reg], r24\n\t"
+      "out  %[scratch_a], r24\n\t"
       "lds  r24, %[adcsra]\n\t"
-      "ori  r24, %[adsc]\n\t"
+      "sbrc r24, %[adsc]\n\t"
+      "rjmp 1f\n\t"
+      "sbrc r24, %[adif]\n\t"
+      "rjmp 1f\n\t"
+      "ldi  r24, %[start]\n\t"
       "sts  %[adcsra], r24\n"
       "1:\n\t"
-      "pop  r25\n\t"
-      "pop  r24\n\t"
-      "out  __SREG__, r24\n\t"
-      "pop  r24\n\t"
+      "in   r24, %[scratch_a]\n\t"
       "reti"
       :
-      : [index] "i"(&adc::g_index), [count] "i"(&adc::g_count), [admux] "i"(adc::g_admux),
-        [ocrl] "n"(_SFR_MEM_ADDR(OCR1BL)), [ocrh] "n"(_SFR_MEM_ADDR(OCR1BH)), [admux_reg] "n"(_SFR_MEM_ADDR(ADMUX)),
-        [adcsra] "n"(_SFR_MEM_ADDR(ADCSRA)), [adsc] "n"(1 << ADSC));
+      : [adcsra] "n"(_SFR_MEM_ADDR(ADCSRA)), [adsc] "n"(ADSC), [adif] "n"(ADIF),
+        [start] "n"(adc::kAdcsraOn | (1 << ADSC)), [scratch_a] "n"(isr_scratch::kA_io));
 }

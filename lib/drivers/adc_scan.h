@@ -16,7 +16,7 @@ namespace adc {
 
 constexpr uint8_t kMaxChannels = 8;
 
-// channels: ADC0..7 numbers, converted in this order; results are read by index in the same
+// channels: ADC0..7 numbers (count >= 1), converted in this order; results are read by index in the same
 // order. Starts a first sweep now, then one every tick at sweep_phase_us after the system
 // tick's compare (tick::start() first: Timer1 runs).
 void start(const uint8_t* channels, uint8_t count, uint16_t sweep_phase_us);

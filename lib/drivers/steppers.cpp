@@ -4,6 +4,7 @@
 #include <avr/io.h>
 #include <util/atomic.h>
 
+#include "drivers/isr_scratch.h"
 #include "drivers/pins.h"
 #include "wmra_mega/board.h"
 
@@ -62,23 +63,27 @@ inline void set_dir(uint8_t i, int8_t dir) {
   }
 }
 
-// The compare unit toggled STEP high at the edge; a forced compare toggles it low again, 50
+// The compare unit toggled STEP high at the edge; a forced compare toggles it low again, 44
 // cycles after the match at the earliest (the DRV8825 needs 1.9 us, 30 cycles). Then the next
 // edge, one interval (Q8: the fraction's carry) after this one, or kMinLeadTicks from now if
-// that is already close or past (late is the sign of edge - now: intervals are below 32,768
-// ticks, kStepMaxInterval_ticks <= 25,000 in firmware/config/joints_config.h). At the step
-// that brings `left` to 0 the channel stops (its compare output and interrupt off).
-// Assembly, four registers saved: in C (-O2) the ISR saved ten and took 114 cycles, and three
-// channels at 20 kHz run it 60,000 times a second.
+// that is already close or past (late is the sign of edge - lead - now: intervals are below
+// 32,768 ticks, kStepMaxInterval_ticks <= 25,000 in firmware/config/joints_config.h). At the
+// step that brings `left` to 0 the channel stops (its compare output and interrupt off).
+// Assembly, three registers and SREG saved, two of them in the scratch registers
+// (isr_scratch.h): 73 cycles. In C (-O2) the ISR saved ten and took 114, in assembly with a
+// fourth register for the counter's copy and every save a push 82; three channels at 20 kHz
+// run it 60,000 times a second. The counter is compared byte by byte against edge - lead (its
+// high byte read from the timer's TEMP after the low one: one read of the counter), and lead
+// added back; a late edge reads the counter again (now, or a count later: still kMinLeadTicks
+// ahead of it, as before the edge at the first read's count + lead).
 template <uint8_t I>
 __attribute__((always_inline)) inline void on_edge() {
   asm volatile(
-      "push r24\n\t"
+      "out  %[scratch_a], r24\n\t"
       "in   r24, __SREG__\n\t"
-      "push r24\n\t"
+      "out  %[scratch_b], r24\n\t"
       "push r25\n\t"
       "push r26\n\t"
-      "push r27\n\t"
       "lds  r24, %[left]\n\t"
       "lds  r25, %[left]+1\n\t"
       "sbiw r24, 1\n\t"
@@ -90,25 +95,35 @@ __attribute__((always_inline)) inline void on_edge() {
       "add  r24, r25\n\t"  // carry: the fractions' overflow, added below
       "sts  %[frac], r24\n\t"
       "lds  r24, %[ocr]\n\t"
-      "lds  r25, %[ocr]+1\n\t"
       "lds  r26, %[ival]\n\t"
-      "lds  r27, %[ival]+1\n\t"
       "adc  r24, r26\n\t"
-      "adc  r25, r27\n\t"
+      "lds  r25, %[ocr]+1\n\t"
+      "lds  r26, %[ival]+1\n\t"
+      "adc  r25, r26\n\t"
       "ldi  r26, %[foc]\n\t"
       "sts  %[tccrc], r26\n\t"  // the pulse ends
+      "sbiw r24, %[lead]\n\t"
       "lds  r26, %[tcnt]\n\t"
-      "lds  r27, %[tcnt]+1\n\t"
-      "subi r26, lo8(-%[lead])\n\t"
-      "sbci r27, hi8(-%[lead])\n\t"
       "cp   r24, r26\n\t"
-      "cpc  r25, r27\n\t"
-      "brpl 1f\n\t"
-      "movw r24, r26\n\t"
+      "lds  r26, %[tcnt]+1\n\t"
+      "cpc  r25, r26\n\t"
+      "brmi 4f\n\t"
+      "adiw r24, %[lead]\n"
       "1:\n\t"
       "sts  %[ocr]+1, r25\n\t"
-      "sts  %[ocr], r24\n\t"
-      "rjmp 3f\n\t"
+      "sts  %[ocr], r24\n"
+      "3:\n\t"
+      "pop  r26\n\t"
+      "pop  r25\n\t"
+      "in   r24, %[scratch_b]\n\t"
+      "out  __SREG__, r24\n\t"
+      "in   r24, %[scratch_a]\n\t"
+      "reti\n"
+      "4:\n\t"
+      "lds  r24, %[tcnt]\n\t"
+      "lds  r25, %[tcnt]+1\n\t"
+      "adiw r24, %[lead]\n\t"
+      "rjmp 1b\n"
       "2:\n\t"
       "lds  r24, %[timsk]\n\t"
       "andi r24, %[ocie_keep]\n\t"
@@ -121,21 +136,14 @@ __attribute__((always_inline)) inline void on_edge() {
       "lds  r24, %[tccra]\n\t"
       "andi r24, %[com_keep]\n\t"
       "sts  %[tccra], r24\n\t"
-      "3:\n\t"
-      "pop  r27\n\t"
-      "pop  r26\n\t"
-      "pop  r25\n\t"
-      "pop  r24\n\t"
-      "out  __SREG__, r24\n\t"
-      "pop  r24\n\t"
-      "reti\n\t"
+      "rjmp 3b\n\t"
       :
       : [left] "i"(&g_ch[I].isr.left), [frac] "i"(&g_ch[I].isr.frac), [ifrac] "i"(&g_ch[I].isr.interval_frac),
         [ival] "i"(&g_ch[I].isr.interval), [ocr] "n"(m2560::timer_registers(kPins(I).step.timer).ocr[(int)kPins(I).step.channel]),
         [foc] "n"(1 << foc_bit(I)), [tccrc] "n"(_SFR_MEM_ADDR(TCCR5C)), [tcnt] "n"(_SFR_MEM_ADDR(TCNT5L)),
         [lead] "n"(kMinLeadTicks), [tccra] "n"(_SFR_MEM_ADDR(TCCR5A)), [com_keep] "n"((uint8_t) ~(3 << com_shift(I))),
         [timsk] "n"(_SFR_MEM_ADDR(TIMSK5)), [ocie_keep] "n"((uint8_t) ~(1 << ocie_bit(I))), [running] "i"(&g_running),
-        [run_keep] "n"((uint8_t) ~(1 << I)));
+        [run_keep] "n"((uint8_t) ~(1 << I)), [scratch_a] "n"(isr_scratch::kA_io), [scratch_b] "n"(isr_scratch::kB_io));
 }
 
 // With interrupts off: the channel's first edge one interval from now, DIR set first (the

@@ -32,6 +32,16 @@ void start() {
   set_sleep_mode(SLEEP_MODE_IDLE);
 }
 
+void start_phase_compare(uint16_t phase_us) {
+  const uint8_t s = SREG;
+  cli();
+  // compare A holds the next tick's count: this tick's phase, moved on at the next tick
+  OCR1B = (uint16_t)(OCR1A - kTickCounts + phase_us * kCountsPerUs);
+  TIFR1 = (1 << OCF1B);
+  TIMSK1 |= (1 << OCIE1B);
+  SREG = s;
+}
+
 uint8_t wait() {
   for (;;) {
     cli();
@@ -76,6 +86,7 @@ using namespace wmra;
 
 ISR(TIMER1_COMPA_vect) {
   OCR1A += tick::kTickCounts;
+  OCR1B += tick::kTickCounts;
   tick::g_ms = tick::g_ms + 1;
   const uint8_t pending = tick::g_pending;
   if (pending != 255) tick::g_pending = (uint8_t)(pending + 1);

@@ -20,6 +20,10 @@ void start();
 // Sleeps (idle) until a tick is due; returns the ticks that elapsed (> 1: the loop overran).
 uint8_t wait();
 uint32_t now_ms();
+// Compare B: a second 1 kHz event, phase_us (< 1000) after each tick's compare (from the tick
+// under way or the next on), its interrupt enabled; its ISR is its user's (adc_scan.cpp). The
+// tick's ISR moves it on, so that the user's ISR does only its job.
+void start_phase_compare(uint16_t phase_us);
 // Servo pulse width, us; 0 = no pulse (pin low).
 void set_servo_pulse_us(uint16_t us);
 
