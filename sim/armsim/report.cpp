@@ -179,6 +179,8 @@ std::vector<std::array<std::string, 2>> summary_rows(const RunResult& result, co
     rows.push_back({"control loop", format("%.0f mean, %llu max cycles (%.0f / %.0f us)", m.loop_high.mean(),
                                            (unsigned long long)m.loop_high.max, m.loop_high.mean() / 16,
                                            m.loop_high.max / 16.0)});
+    rows.push_back({"control loop less interrupts",
+                    format("%.0f mean, %llu max cycles", m.loop_own.mean(), (unsigned long long)m.loop_own.max)});
   } else {
     rows.push_back({"control loop", "no iteration seen on D49"});
   }

@@ -163,6 +163,8 @@ void write_summary_json(const std::string& path, const RunResult& result, const 
   std::fprintf(f, "  \"control_loop_cycles\": {\"mean\": %.1f, \"max\": %llu, \"min\": %llu, \"count\": %llu},\n",
                m.loop_high.mean(), (unsigned long long)m.loop_high.max,
                (unsigned long long)(m.loop_high.count ? m.loop_high.min : 0), (unsigned long long)m.loop_high.count);
+  std::fprintf(f, "  \"control_loop_own_cycles\": {\"mean\": %.1f, \"max\": %llu},\n", m.loop_own.mean(),
+               (unsigned long long)m.loop_own.max);
   std::fprintf(f, "  \"control_period_cycles\": {\"mean\": %.1f, \"max\": %llu, \"min\": %llu},\n", m.loop_period.mean(),
                (unsigned long long)m.loop_period.max,
                (unsigned long long)(m.loop_period.count ? m.loop_period.min : 0));

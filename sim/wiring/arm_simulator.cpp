@@ -289,8 +289,10 @@ void ArmSimulator::update_outputs(bool steppers, bool probe_pin) {
         probe_seen_ = true;
       }
       last_rise_ = cycle;
+      isr_cycles_at_rise_ = core_->isr_cycles();
     } else if (probe_seen_) {
       loop_high_.add(cycle - last_rise_);
+      loop_own_.add(cycle - last_rise_ - (core_->isr_cycles() - isr_cycles_at_rise_));
     }
   }
   if (enable_changed) check_estop();
@@ -607,6 +609,7 @@ Measurements ArmSimulator::measurements() const {
   m.cycles = core_->cycle();
   m.sim_time_s = time_s();
   m.loop_high = loop_high_;
+  m.loop_own = loop_own_;
   m.loop_period = loop_period_;
   if (loop_period_.count && last_rise_ > first_rise_) {
     m.control_rate_hz = (double)loop_period_.count * m2560::kCpuHz / (double)(last_rise_ - first_rise_);

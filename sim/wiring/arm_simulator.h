@@ -74,6 +74,9 @@ struct Measurements {
   double sim_time_s = 0;
   uint64_t cycles = 0;
   CycleStats loop_high;    // D49 high: one control iteration, cycles
+  // D49 high less the interrupt handlers' cycles that landed in it: the iteration's own work.
+  // No handler straddles an edge: D49 is written by the loop, never inside a handler.
+  CycleStats loop_own;
   CycleStats loop_period;  // D49 rising to rising, cycles
   double control_rate_hz = 0;
   double cpu_load = 0;     // 1 - cycles asleep / all cycles
@@ -173,7 +176,8 @@ class ArmSimulator {
   bool probe_level_ = false;
   bool probe_seen_ = false;
   uint64_t first_rise_ = 0, last_rise_ = 0;
-  CycleStats loop_high_, loop_period_;
+  uint64_t isr_cycles_at_rise_ = 0;
+  CycleStats loop_high_, loop_own_, loop_period_;
   avr_irq_t* adc_irq_ = nullptr;
   avr_irq_t* uart_irq_ = nullptr;
   bool uart_xoff_ = false;

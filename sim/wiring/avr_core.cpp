@@ -194,6 +194,7 @@ int AvrCore::step() {
     const uint64_t cycles = avr_->cycle - a.entry_cycle + m2560::kInterruptResponseCycles;
     s.count++;
     s.total_cycles += cycles;
+    isr_cycles_ += cycles;
     if (cycles > s.max_cycles) s.max_cycles = cycles;
   }
   const avr_flashaddr_t now = avr_->pc;

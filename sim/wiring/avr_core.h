@@ -62,6 +62,7 @@ class AvrCore {
   // --- measurements
   uint64_t sleep_cycles() const { return sleep_cycles_; }
   const IsrStats& isr(int vector) const { return isr_[vector]; }
+  uint64_t isr_cycles() const { return isr_cycles_; }  // all handlers' cycles, counted at each RETI
   uint16_t min_stack_pointer() const { return min_sp_; }
   uint32_t static_ram_bytes() const { return static_ram_; }  // .data + .bss
   uint32_t stack_high_water_bytes() const;
@@ -94,6 +95,7 @@ class AvrCore {
   void (*core_reset_)(avr_t*) = nullptr;
   avr_run_t run_callback_ = nullptr;
   uint64_t sleep_cycles_ = 0;
+  uint64_t isr_cycles_ = 0;
   IsrStats isr_[64];
   struct Active {
     int vector;
