@@ -185,6 +185,10 @@ static_assert(kSchedulePeriod_ticks % kDrivePeriod_ticks == 0 && kSchedulePeriod
               "every job's period divides the schedule's");
 constexpr uint8_t kGovernorPhase = (uint8_t)((kHoldingPhase + kSchedulePeriod_ticks / 2) % kSchedulePeriod_ticks);
 static_assert(kGovernorPhase != kHoldingPhase, "the holding update and the speed governor on different ticks");
+// the tick before each: the motion pass's (it keeps its trig for the holding update), and the
+// holding update's and the governor's without the stick's motion pass (dc_tick)
+constexpr uint8_t kEarlyHoldingPhase = (kHoldingPhase + kSchedulePeriod_ticks - 1) % kSchedulePeriod_ticks;
+constexpr uint8_t kEarlyGovernorPhase = (kGovernorPhase + kSchedulePeriod_ticks - 1) % kSchedulePeriod_ticks;
 static_assert(kHoldingPhase % kStepperPeriod_ticks != kStepperSlot && kGovernorPhase % kStepperPeriod_ticks != kStepperSlot,
               "the steppers' ramps on ticks without the holding update and the speed governor");
 static_assert(kHoldingPhase % kDrivePeriod_ticks == kDriveSlot && kGovernorPhase % kDrivePeriod_ticks == kDriveSlot,
@@ -224,6 +228,9 @@ kin::Vec3<fx::Real> g_v_m_s;  // the hand's commanded velocity, as far as g_qd h
 kin::Vec3<fx::Real> g_p_cmd;  // the hand's commanded position (drift correction)
 kin::Vec3<fx::Real> g_drift_m_s;  // the drift correction, held between its updates
 kin::Vec3<fx::Real> g_p_hand;  // the drift correction's hand position (FK of the references), for the report
+kin::JacobianTrig<Fixed> g_pass_trig;  // the last motion pass's (the holding update reads it, update_holding)
+kin::Vec3<fx::Real> g_kept_p_cmd;      // the commanded position the pass before the holding update started from
+bool g_kept;                           // that pass ran, and the holding update has not yet read them
 uint32_t g_p_hand_ms = 0u - kHandPositionAge_ms;  // and tick::now_ms() when it was (none yet: too old)
 uint32_t g_faults;            // latched
 uint16_t g_ms;
@@ -468,7 +475,8 @@ __attribute__((flatten, noinline)) void integrate_commanded(uint8_t ticks) {
 __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick, const Requests& rq, uint8_t ticks) {
   const kin::JointAngles<Fixed>& q = g_q.q;
   // no joint 6: the twist, the hand's position and J^-1 do not use it (one sine and cosine less)
-  const kin::JacobianTrig<Fixed> trig = kin::jacobian_trig<Fixed>(q);
+  kin::fill_jacobian_trig<Fixed>(q, g_pass_trig);  // in place: a copy for the holding update is a byte loop
+  const kin::JacobianTrig<Fixed>& trig = g_pass_trig;
 
   const config::Mode mode = g_supervisor.mode();
   // initialised from the call (an assignment copied the returned twist, a 24-byte loop)
@@ -513,6 +521,12 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
     g_v_m_s.x = g_v_m_s.x + core::scaled(k, core::scaled(rates.scale, v_cmd.x) - g_v_m_s.x);
     g_v_m_s.y = g_v_m_s.y + core::scaled(k, core::scaled(rates.scale, v_cmd.y) - g_v_m_s.y);
     g_v_m_s.z = g_v_m_s.z + core::scaled(k, core::scaled(rates.scale, v_cmd.z) - g_v_m_s.z);
+  }
+  if (g_phase == kEarlyHoldingPhase) {
+    g_kept_p_cmd.x = g_p_cmd.x;
+    g_kept_p_cmd.y = g_p_cmd.y;
+    g_kept_p_cmd.z = g_p_cmd.z;
+    g_kept = true;
   }
   integrate_commanded(ticks);
   g_q.advance_ticks(ticks);
@@ -574,24 +588,33 @@ WMRA_COLD void enter(core::ArmState state) {
 }
 
 // Drift correction (while the stick drives): towards the integrated commanded position from the
-// hand's position; both are the last motion pass's, sampled together, so the held correction
+// hand's position; both are of the same references, sampled together, so the held correction
 // has no lag term of its own.
-void update_drift(const kin::JacobianTrig<Fixed>& trig) {
+void update_drift(const kin::JacobianTrig<Fixed>& trig, const kin::Vec3<fx::Real>& p_cmd) {
   const kin::Vec3<fx::Real>& p = g_p_hand = kin::hand_position<Fixed>(trig);
   g_p_hand_ms = tick::now_ms();
-  g_drift_m_s = {drift_correction((g_p_cmd.x - p.x).raw), drift_correction((g_p_cmd.y - p.y).raw),
-                 drift_correction((g_p_cmd.z - p.z).raw)};
+  g_drift_m_s = {drift_correction((p_cmd.x - p.x).raw), drift_correction((p_cmd.y - p.y).raw),
+                 drift_correction((p_cmd.z - p.z).raw)};
 }
 
-// the holding effort, and while the stick drives the drift correction, from the references' trig
+// The holding effort, and while the stick drives the drift correction, from the references'
+// trig. While the stick drives, the motion pass a tick before kept its trig and commanded
+// position (the references at that pass's start, two ticks old: the load's angle sums move a
+// quarter of what they move between two updates, above, and the correction's hand position
+// stays paired with its commanded one): a trig of its own made this drives' tick the loop's
+// longest (~600 cycles more). Without them (the stick began driving since), the trig of the
+// references as they are.
 WMRA_SMALL void update_holding(bool stick_drives) {
-  const kin::JacobianTrig<Fixed> trig = kin::jacobian_trig<Fixed>(g_q.q);
+  const bool kept = stick_drives && g_kept;
+  g_kept = false;
+  if (!kept) kin::fill_jacobian_trig<Fixed>(g_q.q, g_pass_trig);
+  const kin::JacobianTrig<Fixed>& trig = g_pass_trig;
   const core::HoldingEffort holding = core::holding_effort(trig);
   for (uint8_t d = 0; d < 3; ++d) {
     const int16_t h = g_dc[d].holding_q15 = holding.duty_q15[d];
     g_dc[d].holding_effort_q15 = effort_for_duty(h);
   }
-  if (stick_drives) update_drift(trig);
+  if (stick_drives) update_drift(trig, kept ? g_kept_p_cmd : g_p_cmd);
 }
 
 // the speed governor, from the holding duties of the last update
@@ -700,8 +723,6 @@ __attribute__((noinline)) void run_dc_servos() {
 // may come up to 32 ticks after its last: a move runs at half the speed limits, so the angle
 // sums move no more than in the 16 ticks the governor's margin allows (above).
 void dc_tick(uint8_t phase, uint8_t slot, bool stick_drives) {
-  constexpr uint8_t kEarlyHoldingPhase = (kHoldingPhase + kSchedulePeriod_ticks - 1) % kSchedulePeriod_ticks;
-  constexpr uint8_t kEarlyGovernorPhase = (kGovernorPhase + kSchedulePeriod_ticks - 1) % kSchedulePeriod_ticks;
   static_assert(kEarlyHoldingPhase % kDrivePeriod_ticks == kMotionSlot && kEarlyGovernorPhase % kDrivePeriod_ticks == kMotionSlot,
                 "a tick before the holding update's and the governor's is the motion pass's");
   if (phase == (stick_drives ? kHoldingPhase : kEarlyHoldingPhase)) {

@@ -76,10 +76,14 @@ PoseTrig<N> pose_trig(const JointAngles<N>& j) {
   return t;
 }
 template <class N>
-JacobianTrig<N> jacobian_trig(const JointAngles<N>& j) {
-  JacobianTrig<N> t;
+void fill_jacobian_trig(const JointAngles<N>& j, JacobianTrig<N>& t) {
   t.s3 = N::sin(j.q[2]);
   fill_chain_trig<N>(j, t);
+}
+template <class N>
+JacobianTrig<N> jacobian_trig(const JointAngles<N>& j) {
+  JacobianTrig<N> t;
+  fill_jacobian_trig<N>(j, t);
   return t;
 }
 template <class N>
