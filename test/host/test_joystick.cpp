@@ -295,3 +295,24 @@ TEST(Joystick, KeptShapeEqualsAFreshOne) {
   EXPECT_EQ(o.x_q15, r.x_q15);
   EXPECT_EQ(o.y_q15, r.y_q15);
 }
+
+// A held stick whose reading flickers by a count (the ADC's noise) keeps its output; a reading
+// two counts from the kept one is taken, and one count back from it is not.
+TEST(Joystick, OneCountFlickerIsHeld) {
+  JoystickConfig c = config();
+  c.rise_q15 = c.fall_q15 = 32767;
+  Joystick j = ready(515, 505, c);
+  const JoystickOutput held = hold(j, 700, 600, 3);
+  for (int i = 0; i < 20; ++i) {
+    const JoystickOutput o = j.update((uint16_t)(700 + (i % 3) - 1), (uint16_t)(600 - (i % 3) + 1));
+    ASSERT_EQ(o.x_q15, held.x_q15) << i;
+    ASSERT_EQ(o.y_q15, held.y_q15) << i;
+  }
+  Joystick fresh = ready(515, 505, c);
+  const JoystickOutput moved = j.update(702, 600), expected = fresh.update(702, 600);
+  EXPECT_GT(moved.x_q15, held.x_q15);
+  EXPECT_EQ(moved.x_q15, expected.x_q15);
+  EXPECT_EQ(j.update(701, 600).x_q15, moved.x_q15);
+  // released: back to neutral at once
+  EXPECT_EQ(j.update(515, 505).x_q15, 0);
+}
