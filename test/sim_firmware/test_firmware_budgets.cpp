@@ -12,9 +12,11 @@
 
 #include "armsim/firmware_telemetry.h"
 #include "config/control_config.h"
+#include "config/joints_config.h"
 #include "config/modes_config.h"
 #include "core/supervisor.h"
 #include "firmware_rig.h"
+#include "kinematics/arm_model.h"
 #include "plant/arm_plant_config.h"
 #include "wiring/arm_simulator.h"
 
@@ -306,6 +308,13 @@ TEST(FirmwareBudgets, ControlIterationWhileTheStickDrives) {
 // hand driven away in XY and a goto to the ready pose, 3.001 s apart: with no tick missed
 // (checked) each move starts on the next phase of the schedule's eight.
 constexpr uint64_t kTick_cycles = 16000000 / config::kLoopHz;
+// How far a DC joint may stand from a pose it arrived at: the arrival tolerance on its pot's
+// reading (kArrivedTolerance_mdeg) and two ADC counts of the pot's span for the reading's
+// quantisation and noise (the plant's pots: 0.3 LSB rms).
+double dc_arrival_bound_deg(int joint) {
+  const double counts_over_range = (plant::kPotHighMv - plant::kPotLowMv) / plant::kAdcRefMv * 1024;
+  return config::kArrivedTolerance_mdeg / 1000.0 + 2 * (arm::q_max_deg[joint] - arm::q_min_deg[joint]) / counts_over_range;
+}
 TEST(FirmwareBudgets, EveryIterationOfTheMovesToAPoseWithinItsTick) {
   const armsim::Scenario scenario = armsim::load_scenario(std::string(SCENARIOS_DIR) + "/moves-to-a-pose.txt");
   std::vector<double> gotos_s;
@@ -316,16 +325,18 @@ TEST(FirmwareBudgets, EveryIterationOfTheMovesToAPoseWithinItsTick) {
   options.elf = kFirmware;
   uint64_t first_count = 0, last_count = 0;  // iterations at the rows of the first and the last goto
   double first_s = -1, last_s = -1;
-  // the hand at the ready pose (before the stick first moves), at each goto and 1.9 s after it
+  // the hand at the ready pose (before the stick first moves) and at each goto, the joints 1.9 s
+  // after it
   constexpr double kBack_s = 1.9;
   const double stick_s = scenario.events.front().t_s;
   std::array<double, 3> ready{};
-  std::vector<std::array<double, 3>> away(gotos_s.size()), back(gotos_s.size());
+  std::vector<std::array<double, 3>> away(gotos_s.size());
+  std::vector<std::array<double, 6>> back_q(gotos_s.size());
   const armsim::RunResult r = armsim::run_scenario(scenario, options, [&](const sim::ArmSimulator& sim, const armsim::TrajectoryRow& row) {
     if (row.t_s < stick_s) ready = row.p;
     for (size_t k = 0; k < gotos_s.size(); ++k) {
       if (row.t_s <= gotos_s[k]) away[k] = row.p;
-      if (row.t_s <= gotos_s[k] + kBack_s) back[k] = row.p;
+      if (row.t_s <= gotos_s[k] + kBack_s) back_q[k] = row.q;
     }
     if (first_s < 0 && row.t_s >= gotos_s.front()) first_s = row.t_s, first_count = sim.measurements().loop_high.count;
     if (last_s < 0 && row.t_s >= gotos_s.back()) last_s = row.t_s, last_count = sim.measurements().loop_high.count;
@@ -338,11 +349,14 @@ TEST(FirmwareBudgets, EveryIterationOfTheMovesToAPoseWithinItsTick) {
               loop.mean(), (unsigned long long)loop.max, (unsigned long long)(last_count - first_count), last_s - first_s);
   EXPECT_NEAR((double)(last_count - first_count), 1000 * (last_s - first_s), 1.0) << "a tick missed: the moves' phases unknown";
   EXPECT_LE(loop.max, kTick_cycles);
-  // every goto moved the arm: from where the stick had driven the hand back to the ready pose
-  // (within the DC joints' arrival tolerance)
+  // every goto moved the arm: from where the stick had driven the hand back to the ready pose,
+  // each DC joint within its arrival bound (the steppers arrive exactly, in steps)
   for (size_t k = 0; k < gotos_s.size(); ++k) {
     EXPECT_GT(test::distance_mm(away[k], ready), 30.0) << "goto " << k;
-    EXPECT_LT(test::distance_mm(back[k], ready), 6.0) << "goto " << k;
+    for (int j = 1; j <= 3; ++j) {  // J2, J3, J4
+      const double off_deg = back_q[k][j] * 180 / 3.14159265358979323846 - config::kReadyPose_deg[j];
+      EXPECT_LT(std::fabs(off_deg), dc_arrival_bound_deg(j)) << "goto " << k << ", J" << j + 1;
+    }
   }
 }
 
