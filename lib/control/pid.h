@@ -35,10 +35,17 @@
 // e.g. ADC counts * 16, so that a setpoint integrated from a joint velocity keeps its fraction.
 #pragma once
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "control/control_math.h"
 #include "kinematics/ratio.h"
+
+#if defined(__AVR__)
+#define WMRA_PID_SMALL __attribute__((optimize("Os")))
+#else
+#define WMRA_PID_SMALL
+#endif
 
 namespace wmra {
 namespace control {
@@ -148,8 +155,9 @@ class Pid {
     return duty_for(update_effort(e, measurement, feedforward_q15, samples));
   }
   // One sample's effort (Q15, signed), before the dead-zone inverse: a caller that maps it
-  // itself (duty_moving)
-  int16_t update_effort(int16_t e, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
+  // itself (duty_moving). Small on the AVR: there core::DcServo's rare runs alone call it (its
+  // common run is an asm kernel of its own).
+  WMRA_PID_SMALL int16_t update_effort(int16_t e, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
     if (!configured_) return 0;
     int16_t dm = sub_saturated_i16(measurement, m_prev_);
     m_prev_ = measurement;
@@ -228,8 +236,24 @@ class Pid {
   }
 
   const PidConfig& config() const { return c_; }
+  bool configured() const { return configured_; }
   int16_t effort_q15() const { return effort_; }
   int32_t integral_q23() const { return integral_q23_; }
+
+  // Where an update's fields lie in a Pid, for an AVR kernel that reaches them through its
+  // holder's pointer (core::DcServo's update; its C twin is update_effort)
+  struct Layout {
+    uint8_t integral, m_prev, effort, top, bottom, kp, ki, kd, min_duty, zero_band, slope, p_error_limit, d_change_limit,
+        i_error_limit, kp_x16, rate_twice, integral_limit;
+  };
+  static constexpr Layout layout() {
+    return Layout{offsetof(Pid, integral_q23_),   offsetof(Pid, m_prev_),         offsetof(Pid, effort_),
+                  offsetof(Pid, top_),            offsetof(Pid, bottom_),         offsetof(Pid, c_.gains.kp_q4),
+                  offsetof(Pid, c_.gains.ki_q8),  offsetof(Pid, c_.gains.kd),     offsetof(Pid, c_.min_duty_q15),
+                  offsetof(Pid, c_.zero_band_q15), offsetof(Pid, slope_q15_),     offsetof(Pid, p_error_limit_),
+                  offsetof(Pid, d_change_limit_), offsetof(Pid, i_error_limit_), offsetof(Pid, kp_x16_),
+                  offsetof(Pid, rate_twice_),     offsetof(Pid, integral_limit_)};
+  }
 
  private:
   static constexpr int32_t kTermLimit = (int32_t)1 << 26;  // Q19: 128 x full output
