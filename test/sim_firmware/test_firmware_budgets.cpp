@@ -196,12 +196,19 @@ constexpr uint64_t kIterationTarget_cycles = 8000;
 // 10,133, 56.4 %; the ISRs inside the iteration cheaper (isr18: the ADC sweep's compare moved on
 // by the tick's ISR, the ADC's and the transmit ring's ISRs without SREG, the step ISR with one
 // register less, ISR registers saved in GPIOR1/2; 327 cycles of ISRs landed in a mean iteration,
-// now 223): 7,788 and 9,859, the alternate iterations 7,743 / 7,833, CPU 55.1 %.
+// now 223): 7,788 and 9,859, the alternate iterations 7,743 / 7,833, CPU 55.1 %. Session 19
+// (counting the iterations over 8,000 too: 1,480 of 2,999): the holding update from the motion
+// pass's trig: 7,720 and 9,962, 1,448 over; the stick reshaped only for a move of more than a
+// count (pass19): 7,566 and 9,510 with it, 1,051 over; the DC servo's common run in asm
+// (dcasm19): 7,155 and 9,480, the alternate iterations 6,765 / 7,544, CPU 51.4 %, 358 over.
 // SPEC 8: the whole CPU load at most 60 % at 1 kHz, here while the stick drives in XY, XZ and R1
 // (R1 steps J5 and J6 fast): the iterations, the step, ADC and serial ISRs, the state frames.
 constexpr double kCpuLoadTarget = 0.60;
-constexpr double kIterationMeanBudget_cycles = kIterationTarget_cycles;  // [7,788]
-constexpr uint64_t kIterationMaxBudget_cycles = 10850;                   // [9,859]
+constexpr double kIterationMeanBudget_cycles = kIterationTarget_cycles;  // [7,155]
+constexpr uint64_t kIterationMaxBudget_cycles = 10430;                   // [9,480]
+// SPEC 8 wants none over 8,000; until then the count may not grow (it moves with the loop's
+// timing: + 20 %)
+constexpr uint64_t kIterationsOverTargetBudget = 430;  // [358 of 3,000]
 
 // The stick deflected in XY, XZ and R1 after start-up; every iteration that ends while the
 // stick is deflected counts. The simulator keeps D49's running sums, so each iteration is read
@@ -296,6 +303,7 @@ TEST(FirmwareBudgets, ControlIterationWhileTheStickDrives) {
   }
   EXPECT_LE(it.mean(), kIterationMeanBudget_cycles);
   EXPECT_LE(it.max, kIterationMaxBudget_cycles);
+  EXPECT_LE(run.over_target, kIterationsOverTargetBudget);
   EXPECT_LE(run.cpu_load(), kCpuLoadTarget);
 }
 
