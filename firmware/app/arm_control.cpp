@@ -522,7 +522,7 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
     g_v_m_s.y = g_v_m_s.y + core::scaled(k, core::scaled(rates.scale, v_cmd.y) - g_v_m_s.y);
     g_v_m_s.z = g_v_m_s.z + core::scaled(k, core::scaled(rates.scale, v_cmd.z) - g_v_m_s.z);
   }
-  if (g_phase == kEarlyHoldingPhase) {
+  if (g_phase == kEarlyHoldingPhase) {  // (by component: a Vec3's assignment is a byte loop)
     g_kept_p_cmd.x = g_p_cmd.x;
     g_kept_p_cmd.y = g_p_cmd.y;
     g_kept_p_cmd.z = g_p_cmd.z;

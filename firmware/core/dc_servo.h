@@ -33,12 +33,6 @@
 #include "control/relay.h"
 #include "core/gravity.h"
 
-#if defined(__AVR__)
-#define WMRA_DC_RARE __attribute__((noinline, cold, optimize("Os")))
-#else
-#define WMRA_DC_RARE
-#endif
-
 namespace wmra {
 namespace core {
 
@@ -130,8 +124,8 @@ class DcServo {
   }
   // (on the AVR only the rare runs take it: out of line, its registers out of update's, and
   // small)
-  WMRA_DC_RARE int16_t update_portable(int16_t reference_units, int16_t measured_units, int16_t feedforward_q15,
-                                                    int16_t holding_q15 = 0, uint8_t ticks = 1) {
+  __attribute__((noinline, cold, optimize("Os"))) int16_t update_portable(int16_t reference_units, int16_t measured_units, int16_t feedforward_q15,
+                                                                          int16_t holding_q15 = 0, uint8_t ticks = 1) {
     const int16_t e = control::sub_saturated_i16(reference_units, measured_units);
     const uint16_t error = control::distance_u16(e, 0);
     // (not -feedforward < zero band: -(-32768) is no int16, and the AVR's int is 16 bits)

@@ -41,12 +41,6 @@
 #include "control/control_math.h"
 #include "kinematics/ratio.h"
 
-#if defined(__AVR__)
-#define WMRA_PID_SMALL __attribute__((optimize("Os")))
-#else
-#define WMRA_PID_SMALL
-#endif
-
 namespace wmra {
 namespace control {
 
@@ -155,9 +149,9 @@ class Pid {
     return duty_for(update_effort(e, measurement, feedforward_q15, samples));
   }
   // One sample's effort (Q15, signed), before the dead-zone inverse: a caller that maps it
-  // itself (duty_moving). Small on the AVR: there core::DcServo's rare runs alone call it (its
+  // itself (duty_moving). Built for size: on the AVR core::DcServo's rare runs alone call it (its
   // common run is an asm kernel of its own).
-  WMRA_PID_SMALL int16_t update_effort(int16_t e, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
+  __attribute__((optimize("Os"))) int16_t update_effort(int16_t e, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
     if (!configured_) return 0;
     int16_t dm = sub_saturated_i16(measurement, m_prev_);
     m_prev_ = measurement;
