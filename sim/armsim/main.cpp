@@ -1,9 +1,11 @@
 // armsim: run the firmware ELF at 16 MHz against the virtual arm through a scenario.
 //
-//   armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--seed N] [--rate HZ] [--no-payload]
+//   armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--profile-over CYCLES]
+//          [--seed N] [--rate HZ] [--no-payload]
 //
 // Writes DIR/trajectory.csv, DIR/summary.json and DIR/report.html (and DIR/trace.vcd with
-// --vcd, DIR/profile.txt with --profile); see run.h.
+// --vcd, DIR/profile.txt with --profile, DIR/profile-over-{even,odd}.txt with --profile-over);
+// see run.h.
 // The firmware's telemetry is decoded on the way (FirmwareTelemetry): mode, state and faults
 // in those files, its counts on stderr.
 // Without --elf it runs the firmware image of this build (ARMSIM_DEFAULT_ELF, set by CMake).
@@ -30,10 +32,13 @@ namespace {
 int usage(const char* why) {
   if (why) std::fprintf(stderr, "armsim: %s\n", why);
   std::fprintf(stderr,
-               "usage: armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--seed N] [--rate HZ] [--no-payload]\n"
+               "usage: armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--profile-over CYCLES]\n"
+               "              [--seed N] [--rate HZ] [--no-payload]\n"
                "  --elf   firmware image (default: %s)\n"
                "  --vcd   also write DIR/trace.vcd (pins, PWM duties, joint angles)\n"
                "  --profile  also write DIR/profile.txt (cycles per instruction, for scripts/profile-firmware)\n"
+               "  --profile-over CYCLES  also write DIR/profile-over-even.txt and -odd.txt: the same of the\n"
+               "             control iterations longer than CYCLES, by the iteration's parity\n"
                "  --seed  noise seed (default 1); --rate  trajectory rows per second (default 100)\n"
                "  --no-payload  the hand empty (default: the 1.2 kg load case)\n",
                ARMSIM_DEFAULT_ELF[0] ? ARMSIM_DEFAULT_ELF : "none built: pass --elf");
@@ -60,6 +65,10 @@ int main(int argc, char** argv) {
       options.vcd = true;
     } else if (a == "--profile") {
       options.profile = true;
+    } else if (a == "--profile-over" && has_value) {
+      char* end = nullptr;
+      options.profile_over_cycles = std::strtoull(argv[++i], &end, 10);
+      if (*end || options.profile_over_cycles == 0) return usage("--profile-over wants a number of cycles above 0");
     } else if (a == "--no-payload") {
       options.plant.payload = false;
     } else if (a == "--seed" && has_value) {

@@ -25,6 +25,15 @@ FILE* open_for_writing(const std::string& path) {
   return f;
 }
 
+// "0xADDR cycles" per instruction that took any (byte address), after the header
+void write_profile(const std::string& path, const std::vector<uint64_t>& cycles, const std::string& header) {
+  FILE* f = open_for_writing(path);
+  std::fputs(header.c_str(), f);
+  for (size_t word = 0; word < cycles.size(); ++word)
+    if (cycles[word]) std::fprintf(f, "0x%zx %llu\n", 2 * word, (unsigned long long)cycles[word]);
+  if (std::fclose(f) != 0) throw std::runtime_error("cannot write " + path);
+}
+
 // one summary.json line: "  \"key\": [\"a\", \"b\"],"
 void write_string_list(FILE* f, const char* key, const std::vector<std::string>& list) {
   std::fprintf(f, "  \"%s\": [", key);
@@ -71,6 +80,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
   if (scenario.has_init) config.initial_q = scenario.init_q;
   if (options.vcd && !options.out_dir.empty()) config.vcd_path = options.out_dir + "/trace.vcd";
   config.profile = options.profile && !options.out_dir.empty();
+  if (!options.out_dir.empty()) config.profile_over_cycles = options.profile_over_cycles;
 
   RunResult result;
   sim::ArmSimulator sim(config);
@@ -126,12 +136,13 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
     write_summary_json(options.out_dir + "/summary.json", result, scenario, options);
     write_report_html(options.out_dir + "/report.html", result, scenario,
                       options.title.empty() ? "armsim run" : options.title);
-    if (config.profile) {
-      FILE* f = open_for_writing(options.out_dir + "/profile.txt");
-      const std::vector<uint64_t>& cycles = sim.core().profile();
-      for (size_t word = 0; word < cycles.size(); ++word)
-        if (cycles[word]) std::fprintf(f, "0x%zx %llu\n", 2 * word, (unsigned long long)cycles[word]);
-      std::fclose(f);
+    if (config.profile) write_profile(options.out_dir + "/profile.txt", sim.core().profile(), "");
+    if (config.profile_over_cycles) {
+      for (int bin = 0; bin < 2; ++bin) {
+        const std::string header = "# " + std::to_string(sim.core().stretches(bin)) + " iterations\n";
+        write_profile(options.out_dir + (bin == 0 ? "/profile-over-even.txt" : "/profile-over-odd.txt"),
+                      sim.core().stretch_profile(bin), header);
+      }
     }
   }
   return result;

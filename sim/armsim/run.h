@@ -6,6 +6,7 @@
 //   serial_out.bin  what the firmware sent on UART0
 //   trace.vcd       with --vcd
 //   profile.txt     with --profile
+//   profile-over-even.txt, profile-over-odd.txt   with --profile-over CYCLES
 // This is the API the scenario tests use: run_scenario() gives the rows and measurements in
 // memory, with a callback at every row for checks of their own.
 #pragma once
@@ -47,6 +48,9 @@ struct RunOptions {
   std::string title;     // the report's heading (the scenario's name)
   bool vcd = false;
   bool profile = false;  // write DIR/profile.txt: "0xADDR cycles" per instruction (byte address)
+  // > 0: write DIR/profile-over-{even,odd}.txt, profile.txt's lines of the control iterations
+  // longer than this many cycles, by the iteration's parity, after a line "# N iterations"
+  uint64_t profile_over_cycles = 0;
   double sample_hz = 100;  // trajectory rows per simulated second (>= 100)
   plant::PlantConfig plant;
   TelemetryDecoder* telemetry = nullptr;  // null: a FirmwareTelemetry of run_scenario's own

@@ -290,9 +290,12 @@ void ArmSimulator::update_outputs(bool steppers, bool probe_pin) {
       }
       last_rise_ = cycle;
       isr_cycles_at_rise_ = core_->isr_cycles();
+      if (config_.profile_over_cycles) core_->begin_stretch();
     } else if (probe_seen_) {
       loop_high_.add(cycle - last_rise_);
       loop_own_.add(cycle - last_rise_ - (core_->isr_cycles() - isr_cycles_at_rise_));
+      if (config_.profile_over_cycles)
+        core_->end_stretch(cycle - last_rise_ > config_.profile_over_cycles ? (int)(loop_high_.count % 2) : -1);
     }
   }
   if (enable_changed) check_estop();

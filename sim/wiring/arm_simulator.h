@@ -38,6 +38,9 @@ struct SimConfig {
   uint32_t serial_baud = 115200;
   std::string vcd_path;  // empty: no trace
   bool profile = false;  // count cycles per instruction (AvrCore::profile)
+  // > 0: the same of the control iterations (D49 high) longer than this, by the iteration's
+  // parity: the loop alternates its jobs (AvrCore::stretch_profile, bin = count % 2 as loop_high)
+  uint64_t profile_over_cycles = 0;
   // MCUSR cleared before the firmware runs, at power-up and after every reset, as the Mega's
   // stock stk500v2 bootloader does (its ~1 s wait after a power-on or external reset and its
   // LED blinks on D13 are not modelled)

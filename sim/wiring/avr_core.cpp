@@ -175,6 +175,20 @@ void AvrCore::after_reset(const std::string& cause) {
   for (auto& listener : reset_listeners_) listener();
 }
 
+void AvrCore::begin_stretch() {
+  stretch_.clear();
+  in_stretch_ = true;
+}
+
+void AvrCore::end_stretch(int bin) {
+  in_stretch_ = false;
+  if (bin < 0) return;
+  StretchBin& b = stretches_[bin];
+  if (b.cycles.empty()) b.cycles.assign(kFlashWords, 0);
+  for (const auto& [word, cycles] : stretch_) b.cycles[word] += cycles;
+  b.count++;
+}
+
 int AvrCore::step() {
   const avr_flashaddr_t pc = avr_->pc;
   const bool reti = !active_.empty() && avr_->state == cpu_Running &&
@@ -182,7 +196,10 @@ int AvrCore::step() {
   reset_seen_ = false;
   const uint64_t cycle_before = avr_->cycle;
   const int state = avr_run(avr_);
-  if (!profile_.empty() && avr_->state == cpu_Running) profile_[(pc >> 1) % profile_.size()] += avr_->cycle - cycle_before;
+  if (avr_->state == cpu_Running) {
+    if (!profile_.empty()) profile_[(pc >> 1) % kFlashWords] += avr_->cycle - cycle_before;
+    if (in_stretch_) stretch_.push_back({(uint32_t)((pc >> 1) % kFlashWords), (uint32_t)(avr_->cycle - cycle_before)});
+  }
   if (reset_seen_) {
     after_reset(watchdog_cause());
     return state;

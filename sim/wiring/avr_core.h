@@ -75,6 +75,13 @@ class AvrCore {
   // finding where the firmware's time goes (armsim --profile, scripts/profile-firmware).
   void enable_profile() { profile_.assign(kFlashWords, 0); }
   const std::vector<uint64_t>& profile() const { return profile_; }
+  // The same, of chosen stretches of the run only, summed into one of two bins (armsim
+  // --profile-over: the control iterations longer than a budget, by their parity): a stretch
+  // runs from begin_stretch() to end_stretch(bin), which keeps it, or drops it with bin -1.
+  void begin_stretch();
+  void end_stretch(int bin);
+  const std::vector<uint64_t>& stretch_profile(int bin) const { return stretches_[bin].cycles; }
+  uint64_t stretches(int bin) const { return stretches_[bin].count; }
 
   // called after each reset (watchdog or jump to 0), once the core is ready to run again
   void on_reset(std::function<void()> listener) { reset_listeners_.push_back(std::move(listener)); }
@@ -112,6 +119,13 @@ class AvrCore {
   std::string console_;
   std::vector<std::string> log_;
   std::vector<uint64_t> profile_;
+  struct StretchBin {
+    std::vector<uint64_t> cycles;  // by word address, as profile_
+    uint64_t count = 0;
+  };
+  StretchBin stretches_[2];
+  bool in_stretch_ = false;
+  std::vector<std::pair<uint32_t, uint32_t>> stretch_;  // the open stretch: (word address, cycles) per instruction
   struct TimerFlag {
     AvrCore* core;
     avr_int_vector_t* vector;

@@ -186,6 +186,25 @@ TEST(Armsim, CommandLineExitCodes) {
   EXPECT_EQ(run("--scenario " + good), 2);  // no --out
   EXPECT_EQ(run("--scenario " + good + " --out " + dir + " --elf " + kLoopImage), 0);
   EXPECT_NE(read_file(dir + "/summary.json").find("\"control_rate_hz\": 1000.000"), std::string::npos);
+  EXPECT_EQ(run("--scenario " + good + " --out " + dir + " --elf " + kLoopImage + " --profile-over 0"), 2);
+  EXPECT_EQ(run("--scenario " + good + " --out " + dir + " --elf " + kLoopImage + " --profile-over 4k"), 2);
+  // the loop image's iterations are 4,000-odd cycles: all of them over 1, half of them in each file
+  EXPECT_EQ(run("--scenario " + good + " --out " + dir + " --elf " + kLoopImage + " --profile-over 1"), 0);
+  const std::string summary = read_file(dir + "/summary.json");
+  const size_t count_at = summary.find("\"count\": ", summary.find("\"control_loop_cycles\""));
+  ASSERT_NE(count_at, std::string::npos);
+  const int iterations = std::atoi(summary.c_str() + count_at + 9);
+  EXPECT_GT(iterations, 190);  // 0.2 s at 1 kHz
+  int in_files = 0;
+  for (const char* name : {"/profile-over-even.txt", "/profile-over-odd.txt"}) {
+    const std::string profile = read_file(dir + name);
+    int n = -1;
+    ASSERT_EQ(std::sscanf(profile.c_str(), "# %d iterations\n0x", &n), 1) << name << ": " << profile.substr(0, 40);
+    EXPECT_NEAR(n, iterations / 2.0, 0.5) << name;
+    EXPECT_NE(profile.find("\n0x"), std::string::npos) << name;
+    in_files += n;
+  }
+  EXPECT_EQ(in_files, iterations);
 }
 
 // The protocol end to end: an image that speaks it over UART0, commands from the scenario's

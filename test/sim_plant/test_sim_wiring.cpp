@@ -183,6 +183,47 @@ TEST(SimWiring, LoopTimeCpuLoadIsrsAndStack) {
   for (const auto& f : m.sim_faults) ADD_FAILURE() << f;
 }
 
+// The profile of the iterations over a budget (armsim --profile-over): each D49 pulse's
+// instructions, kept by the pulse's parity when it is longer than the budget. Here a pulse is
+// 4,000-odd cycles, 13 more when Timer2's overflow lands in it (about a quarter of them).
+TEST(SimWiring, ProfileOfTheIterationsOverABudget) {
+  constexpr size_t kTimer2OverflowVectorWord = 15 * 2;  // TIMER2_OVF_vect_num: a JMP, 3 cycles
+  struct Run {
+    sim::Measurements m;
+    uint64_t kept[2], kept_cycles = 0, vector_cycles = 0;
+  };
+  auto run = [](uint64_t over_cycles) {
+    SimConfig c = config("sim_loop_avr");
+    c.profile_over_cycles = over_cycles;
+    ArmSimulator sim(c);
+    sim.run_until(1.0);
+    Run r{sim.measurements(), {sim.core().stretches(0), sim.core().stretches(1)}};
+    for (int bin = 0; bin < 2; ++bin) {
+      const std::vector<uint64_t>& p = sim.core().stretch_profile(bin);
+      for (uint64_t cycles : p) r.kept_cycles += cycles;
+      if (!p.empty()) r.vector_cycles += p[kTimer2OverflowVectorWord];
+    }
+    return r;
+  };
+  // every pulse: both parities alike, and their instructions' cycles are the pulses' own (the
+  // edges count from within the port write's instruction: a few cycles each)
+  const Run all = run(1);
+  EXPECT_EQ(all.kept[0] + all.kept[1], all.m.loop_high.count);
+  EXPECT_LE(all.kept[0] > all.kept[1] ? all.kept[0] - all.kept[1] : all.kept[1] - all.kept[0], 1u);
+  EXPECT_NEAR((double)all.kept_cycles, (double)all.m.loop_high.sum, 4.0 * all.m.loop_high.count);
+  EXPECT_GT(all.vector_cycles, 0u);
+  EXPECT_LT(all.vector_cycles, 3 * all.m.loop_high.count / 2);
+  // over the plain pulse's length: exactly those with the overflow in them
+  const Run with_isr = run(all.m.loop_high.min + 6);
+  const uint64_t kept = with_isr.kept[0] + with_isr.kept[1];
+  EXPECT_GT(kept, 150u);  // 977 overflows a second, a quarter of the time in a pulse
+  EXPECT_LT(kept, 350u);
+  EXPECT_EQ(with_isr.vector_cycles, 3 * kept);
+  const Run none = run(all.m.loop_high.max);
+  EXPECT_EQ(none.kept[0] + none.kept[1], 0u);
+  EXPECT_EQ(none.kept_cycles, 0u);
+}
+
 // UART0 both ways at 115200; a watchdog bite is counted with its cause, and after it the
 // inputs read as before (simavr's reset clears the PIN registers: the simulator restores them).
 TEST(SimWiring, SerialEchoWatchdogResetAndInputsAfterIt) {
