@@ -91,6 +91,42 @@ TEST(FirmwareSafety, S5SafetyButtonStopsUntilReleasedAndRearmed) {
   for (int j : {0, 4, 5}) EXPECT_NEAR(rig.last().q_mrad[j], rig.sim.q()[j] * 1000.0, 5.0) << "joint " << j + 1;
 }
 
+// SPEC 6: the safety button's outputs off are "latched until released and re-armed", whatever
+// the phase of the control loop the press lands in. A press while an iteration runs, after it
+// has read the button and before its DC servos' run, must not let that run switch a bridge's
+// PWM on again. The press swept over two ticks (a drives' slot and a motion pass) in 50 us
+// steps, the hand driven along +x; each press watched every 10 us for 3 ms (the next
+// iteration has entered stopped by then).
+TEST(FirmwareSafety, SafetyButtonOutputsStayOffWhateverThePhaseOfTheLoop) {
+  std::vector<std::string> redriven;
+  for (int k = 0; k < 40; ++k) {
+    Rig rig(kFirmware);
+    const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+    ASSERT_GT(t_running, 0);
+    rig.sim.set_joystick(1.0, 0.0);
+    const double t_press = std::floor((t_running + 0.5) * 1000.0) / 1000.0 + k * 50e-6;
+    rig.run_to(t_press);
+    rig.sim.set_estop(true);
+    bool off = false;
+    double on_again_s = -1, on_until_s = -1;
+    for (double t = t_press + 10e-6; t < t_press + 3e-3; t += 10e-6) {
+      rig.run_to(t);
+      const bool now_off = rig.sim.outputs_off();
+      if (off && !now_off) {
+        if (on_again_s < 0) on_again_s = t;
+        on_until_s = t;
+      }
+      off |= now_off;
+    }
+    ASSERT_TRUE(off) << "press at +" << k * 50 << " us: outputs never off";
+    if (on_again_s >= 0)
+      redriven.push_back("press at +" + std::to_string(k * 50) + " us into the ms: driven again " +
+                         std::to_string((int)std::lround((on_again_s - t_press) * 1e6)) + " to " +
+                         std::to_string((int)std::lround((on_until_s - t_press) * 1e6)) + " us after it");
+  }
+  for (const std::string& s : redriven) ADD_FAILURE() << s;
+}
+
 // S10: a hung main loop (test build) ends in a watchdog reset, outputs off, and the cause reported
 TEST(FirmwareSafety, S10HangEndsInWatchdogResetReported) {
   Rig rig(kTestFirmware);
