@@ -281,8 +281,14 @@ WMRA_COLD void drives_off() {
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
 }
 
+void outputs_on() {
+  steppers::enable_drivers(true);
+  bridges::enable();
+}
+
 // The DC references start at rest where the joints are (a stop at speed left their last speeds,
-// whose change would be one tick's braking feedforward).
+// whose change would be one tick's braking feedforward). The outputs stay off when the safety
+// button or a switch stopped the arm after this iteration read them (the next one stops).
 WMRA_COLD void drives_on() {
   g_governor_due = false;  // not from holding duties of before the drives went off
   for (uint8_t d = 0; d < 3; ++d) {
@@ -292,7 +298,7 @@ WMRA_COLD void drives_on() {
     g_dc[d].qd_prev = fx::Real{0};
   }
   for (uint8_t i = 0; i < 3; ++i) g_q.set(kStepperJoint[i], kStepperMap[i].angle(steppers::rate(i).position_steps()));
-  steppers::enable_drivers(true);
+  inputs::enable_unless_stopped(&outputs_on);
 }
 
 // --- joint-space moves (to the ready pose, to a stored pose)
@@ -919,14 +925,17 @@ void iterate(Requests& rq, uint8_t ticks) {
       move_tick();
       break;
     case core::ArmState::running: {
+      // A stick at a rail (unplugged, broken) moves nothing (SPEC 6), whatever else commands: a
+      // move or a streamed velocity would go on where the person could not take it over.
+      if (!stick_valid) rq.velocity_fresh = false;
       int8_t pose_slot = rq.goto_slot;
       if (long_press && kLongPressWhileRunning == LongPress::go_to_stored_pose_0) pose_slot = 0;
-      if (pose_slot >= 0 && (g_settings->pose_valid & (1 << pose_slot))) {
+      if (pose_slot >= 0 && stick_valid && (g_settings->pose_valid & (1 << pose_slot))) {
         begin_move(g_settings->pose_angle[pose_slot]);
         g_moving = true;
         g_braking = false;
       }
-      if (g_moving && (!stick_neutral || rq.velocity_fresh)) {  // the person takes over: the move brakes
+      if (g_moving && (!stick_neutral || !stick_valid || rq.velocity_fresh)) {  // the person takes over, or no stick: the move brakes
         g_moving = false;
         brake_move();
       }

@@ -1,6 +1,7 @@
 #include "app/link.h"
 
 #include "config/control_config.h"
+#include "core/faults.h"
 #include "core/joint_map.h"
 #include "drivers/system_tick.h"
 #include "drivers/uart.h"
@@ -92,8 +93,10 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
 #endif
   const ReplyStatus check = protocol::check_command(f);
   if (check != ReplyStatus::ok) return check;
-  const core::ArmState state = status().state;
-  const bool running = state == core::ArmState::running;
+  const Status& st = status();
+  const core::ArmState state = st.state;
+  // motion commands only with a stick the person can take them over with (SPEC 6)
+  const bool motion_allowed = state == core::ArmState::running && !(st.faults & core::fault_mask(core::kFaultBitStickInvalid));
   switch ((MsgType)f.type) {
     case MsgType::cmd_stop:
       rq.stop = true;
@@ -111,13 +114,13 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
       rq.home = true;
       return ReplyStatus::ok;
     case MsgType::cmd_goto_pose:
-      if (!running || !pose_valid(f.payload[0])) return ReplyStatus::refused;
+      if (!motion_allowed || !pose_valid(f.payload[0])) return ReplyStatus::refused;
       rq.goto_slot = (int8_t)f.payload[0];
       return ReplyStatus::ok;
     case MsgType::cmd_store_pose:
       return store_pose(f.payload[0]) ? ReplyStatus::ok : ReplyStatus::refused;
     case MsgType::cmd_velocity: {
-      if (!running) return ReplyStatus::refused;
+      if (!motion_allowed) return ReplyStatus::refused;
       protocol::VelocityCmd v;
       if (!protocol::decode(f, v)) return ReplyStatus::bad_length;
       for (uint8_t i = 0; i < 3; ++i) {

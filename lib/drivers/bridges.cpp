@@ -25,6 +25,8 @@ constexpr const board::BridgePins& kPins(uint8_t j) {
 constexpr bool eight_bit(ComparePin p) { return p.timer == Timer::t0 || p.timer == Timer::t2; }
 constexpr uint8_t kComNonInverting = 2;
 
+volatile bool g_off = true;  // all_off() until enable()
+
 // Always inlined with a constant pin: every register address folds to a constant (a runtime
 // lookup in the pin tables costs ~250 cycles a call).
 // A side switched off: its output disconnected from the timer (what side() does for a duty of 0,
@@ -51,7 +53,11 @@ void set_joint(int16_t duty_q15) {
   constexpr const board::BridgePins& b = kPins(kJoint);
   const uint16_t magnitude = duty_q15 < 0 ? (uint16_t)(0u - (uint16_t)duty_q15) : (uint16_t)duty_q15;  // 16-bit negation
   const uint8_t s = SREG;
-  cli();  // the e-stop ISR writes the same TCCRnA registers
+  cli();  // the e-stop ISR writes the same TCCRnA registers, and g_off
+  if (g_off) {
+    SREG = s;
+    return;
+  }
   if (duty_q15 > 0) {
     side_off(b.right);
     side(b.left, magnitude);
@@ -115,8 +121,11 @@ __attribute__((optimize("O3"))) void all_off() {
     pins::set_com(kPins(j).left, 0);
     pins::set_com(kPins(j).right, 0);
   }
+  g_off = true;
   SREG = s;
 }
+
+void enable() { g_off = false; }
 
 }  // namespace bridges
 }  // namespace wmra

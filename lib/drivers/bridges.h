@@ -13,9 +13,13 @@ namespace bridges {
 constexpr uint8_t kCount = 3;  // J2, J3, J4
 constexpr uint32_t kPwmHz = 20000;
 
-void start();  // timers running, every output low
-void set(uint8_t joint, int16_t duty_q15);  // joint 0 = J2; duty in [-32767, 32767]
-void all_off();  // from any context, also an ISR
+void start();  // timers running, every output low, and off as after all_off()
+void set(uint8_t joint, int16_t duty_q15);  // joint 0 = J2; duty in [-32767, 32767]; nothing while off
+// Every output low and kept so: set() drives nothing until enable(). From any context, also the
+// safety button's interrupt, which may land between the loop's reading of the button and its
+// servos' run: that run must not drive again what the interrupt cut.
+void all_off();
+void enable();
 
 }  // namespace bridges
 }  // namespace wmra

@@ -104,6 +104,15 @@ bool take_safety_event() {
   return e;
 }
 
+bool enable_unless_stopped(void (*enable)()) {
+  const uint8_t s = SREG;
+  cli();
+  const bool stopped = g_safety_event || g_switch_event != 0 || safety_pressed();
+  if (!stopped) enable();
+  SREG = s;
+  return !stopped;
+}
+
 uint16_t take_switch_event() {
   const uint8_t s = SREG;
   cli();

@@ -26,6 +26,11 @@ void arm_switches(uint16_t mask);
 // Latched by the interrupts until taken: the safety button was pressed / an armed switch closed.
 bool take_safety_event();
 uint16_t take_switch_event();
+// Runs enable (the stop hook's outputs back on) with interrupts off, unless a stop is still to be
+// taken: the safety button held, or its press or an armed switch's closing not yet taken (an
+// interrupt after the loop took them: its supervisor sees it next iteration, and the outputs stay
+// cut until then). Returns whether it ran.
+bool enable_unless_stopped(void (*enable)());
 
 }  // namespace inputs
 }  // namespace wmra

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "config/control_config.h"
 #include "config/joints_config.h"
 #include "core/joint_map.h"
 #include "core/resolved_rate.h"
@@ -333,6 +334,103 @@ TEST(FirmwarePoses, AMoveTakenOverByTheStickBrakesWithoutLosingSteps) {
   rig.run_to(t_takeover + 3.0);
   for (int k = 0; k < 3; ++k) EXPECT_EQ(rig.sim.measurements().steps[k].lost, 0) << "stepper " << k;
   EXPECT_GT(q1_at_takeover * 180 / M_PI, 40.0) << "taken over before the pose";
+}
+
+// SPEC 6: a stick at a rail (unplugged, broken) moves nothing until it is valid again. A goto
+// or a streamed velocity would move the arm where the person could not take it over (a
+// deflection brakes a move, a stick at a rail reads 0): both refused, and a move under way when
+// the stick is lost brakes as on a takeover.
+TEST(FirmwarePoses, NoMoveNorStreamWithTheStickAtARail) {
+  Rig rig(kFirmware);
+  app::Settings settings{};
+  const double ready_deg[6] = {70, 20, -70, 50, -30, 0}, slot1_deg[6] = {40, 20, -70, 50, -70, 0};
+  for (int slot = 0; slot < 4; ++slot)
+    for (int j = 0; j < 6; ++j)
+      settings.pose_angle[slot][j] = (int32_t)std::llround((slot == 1 ? slot1_deg : ready_deg)[j] * M_PI / 180 * core::kAngleCountsPerRad);
+  settings.pose_valid = 0x03;
+  rig.sim.set_eeprom(test::settings_block(settings));
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0);
+  rig.sim.set_joystick_unplugged(true);
+  rig.run_to(t_running + 0.1);
+  const armsim::TrajectoryRow unplugged = rig.pose();
+  rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 1, {1}));
+  protocol::VelocityCmd v{};
+  v.v_mm_s[0] = 100;
+  for (int k = 0; k < 5; ++k) {
+    rig.run_to(t_running + 0.15 + 0.05 * k);
+    rig.sim.send_serial(test::message(v, (uint8_t)(2 + k)));
+  }
+  rig.run_to(t_running + 1.5);
+  ASSERT_EQ(rig.telemetry.replies().size(), 6u);
+  for (const protocol::ReplyMsg& r : rig.telemetry.replies())
+    EXPECT_EQ(r.status, (uint8_t)protocol::ReplyStatus::refused) << "command seq " << (int)r.command_seq;
+  EXPECT_LT(distance_mm(rig.pose().p, unplugged.p), 1.0) << "nothing moved";
+  EXPECT_EQ(rig.state(), core::ArmState::running);
+
+  // plugged in again: the goto runs; the stick lost on the way brakes it
+  rig.sim.set_joystick_unplugged(false);
+  rig.run_to(t_running + 2.0);
+  rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 8, {1}));
+  const double t_lost = t_running + 3.0;
+  rig.run_to(t_lost);
+  ASSERT_EQ(rig.telemetry.replies().back().status, (uint8_t)protocol::ReplyStatus::ok);
+  const double q1_at_loss_deg = rig.sim.q()[0] * 180 / M_PI;
+  ASSERT_LT(q1_at_loss_deg, 65.0) << "J1 is moving to the pose";
+  rig.sim.set_joystick_unplugged(true);
+  rig.run_to(t_lost + 1.5);
+  const double q1_braked_deg = rig.sim.q()[0] * 180 / M_PI;
+  rig.run_to(t_lost + 2.5);
+  EXPECT_NEAR(rig.sim.q()[0] * 180 / M_PI, q1_braked_deg, 0.2) << "at rest";
+  EXPECT_GT(q1_braked_deg, 45.0) << "stopped short of the pose's 40 deg";
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(rig.sim.measurements().steps[k].lost, 0) << "stepper " << k;
+}
+
+// SPEC 6: a streamed velocity that stops arriving stops the arm. The stream's command lapses
+// kVelocityTimeout_ms after its last frame (SPEC 5's 100 ms timeout); from there the joints'
+// commanded velocities (the state frames') fall as the stick's do when it is let go, over
+// kStickFall_ms (an instant stop would cost J1's stepper steps), to below the standing speed
+// (what is left is the drift correction's trickle, a few mrad/s at most). The hand then swings
+// a few mm on J1's stepper (the plant's rotor on its magnetic spring) and comes to rest.
+TEST(FirmwareSafety, AStreamThatStopsArrivingStopsTheArm) {
+  Rig rig(kFirmware);
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0);
+  protocol::VelocityCmd v{};
+  v.v_mm_s[0] = -100;
+  double t_last = 0;
+  for (int k = 0; k < 20; ++k) {  // a frame every 50 ms for 1 s
+    t_last = t_running + 0.5 + 0.05 * k;
+    rig.run_to(t_last);
+    rig.sim.send_serial(test::message(v, (uint8_t)(1 + k)));
+  }
+  auto fastest_mrad_s = [&] {
+    int fastest = 0;
+    for (int16_t qd : rig.last().qd_mrad_s) fastest = std::max(fastest, std::abs((int)qd));
+    return fastest;
+  };
+  const double timeout_s = protocol::kVelocityTimeout_ms / 1000.0;
+  rig.run_to(t_last + timeout_s - 0.02);  // (a state frame every 20 ms)
+  const int streaming = fastest_mrad_s();
+  rig.run_to(t_last + timeout_s);
+  const armsim::TrajectoryRow lapsed = rig.pose();
+  double t_zero = -1;
+  for (double t = t_last + timeout_s; t < t_last + 1.0 && t_zero < 0; t += 0.02) {
+    rig.run_to(t);
+    if (fastest_mrad_s() < config::kDcStandingSpeed_mrad_s) t_zero = t - t_last;
+  }
+  rig.run_to(t_last + 2.0);
+  const armsim::TrajectoryRow rest = rig.pose();
+  rig.run_to(t_last + 2.1);
+  std::printf("stream stopped: fastest joint %d mrad/s at the timeout, every joint below the standing speed %.2f s after the last frame; "
+              "at rest %.1f mm from where the command lapsed\n",
+              streaming, t_zero, distance_mm(rest.p, lapsed.p));
+  EXPECT_GT(streaming, 50) << "the stream drove the arm until its timeout";
+  EXPECT_GT(t_zero, 0) << "every commanded joint velocity down to the standing speed";
+  EXPECT_LE(t_zero, timeout_s + config::kStickFall_ms / 1000.0 + 0.041) << "braking from the timeout on (state frames every 20 ms)";
+  EXPECT_LT(distance_mm(rest.p, lapsed.p), 30.0);
+  EXPECT_LT(distance_mm(rig.pose().p, rest.p), 0.5) << "at rest";
+  EXPECT_EQ(rig.state(), core::ArmState::running);
 }
 
 }  // namespace
