@@ -802,9 +802,11 @@ WMRA_COLD void configure(Settings& settings) {
                                            (int16_t)(32767 / kStickRise_ms),
                                            (int16_t)(32767 / kStickFall_ms),
                                            kStickNeutral_ms,
-                                           kStickFullDeflection_counts};
+                                           kStickFullDeflection_counts,
+                                           kStickStoredCentreTolerance_counts};
   static_assert(control::joystick_check(kStick), "joystick configuration");
   g_stick.configure(kStick);
+  g_stick.set_stored_centre(settings.stick_centre_counts[0], settings.stick_centre_counts[1]);
   g_button.configure(control::ButtonConfig{kButtonDebounce_ms, kButtonLongPress_ms});
 
   for (uint8_t i = 0; i < 3; ++i) {
@@ -1048,6 +1050,21 @@ protocol::CalibrationMsg calibration() {
   }
   m.from_command = g_settings->pot_calibrated;
   return m;
+}
+
+// The centre in use: a person sends this with the stick released, after a power-up with it
+// released (a centre taken from a held stick would be stored as it is, hence the guide's steps).
+WMRA_COLD bool store_stick_centre(bool store) {
+  const control::JoystickOutput stick = g_stick.output();
+  uint16_t x = 0, y = 0;
+  if (store) {
+    if (stick.status != 0 || stick.x_q15 != 0 || stick.y_q15 != 0) return false;  // calibrated, armed, neutral
+    x = g_stick.centre(0);
+    y = g_stick.centre(1);
+  }
+  if (!app::set_stick_centre(*g_settings, x, y)) return false;
+  g_stick.set_stored_centre(x, y);
+  return true;
 }
 
 bool pose_valid(uint8_t slot) { return slot < kPoseSlots && (g_settings->pose_valid & (1 << slot)); }

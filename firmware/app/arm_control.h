@@ -72,6 +72,10 @@ enum class CalibrationChange : uint8_t { ok, refused, bad_argument };
 // joint 2..4: its pot counts x 16 at its limits, or both 0 for joints_config.h's (settings.h)
 CalibrationChange calibrate_pot(uint8_t joint, int16_t at_min_counts_x16, int16_t at_max_counts_x16);
 protocol::CalibrationMsg calibration();
+// store: the stick's calibrated centre becomes the one every power-up's must agree with
+// (refused unless the stick is calibrated, armed and reads neutral, and the centre within
+// kStickCentreTolerance_counts of mid-scale); otherwise the stored centre is forgotten
+bool store_stick_centre(bool store);
 
 }  // namespace app
 }  // namespace wmra

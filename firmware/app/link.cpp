@@ -142,6 +142,8 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
     case MsgType::cmd_get_calibration:
       g_send_calibration = true;
       return ReplyStatus::ok;
+    case MsgType::cmd_stick_centre:
+      return store_stick_centre(f.payload[0] != 0) ? ReplyStatus::ok : ReplyStatus::refused;
     default:
       break;
   }

@@ -2,6 +2,7 @@
 
 #include <stddef.h>
 
+#include "config/control_config.h"
 #include "config/joints_config.h"
 #include "core/resolved_rate.h"
 #include "kinematics/fixed_trig.h"
@@ -46,6 +47,7 @@ void set_defaults(Settings& s) {
   for (uint8_t slot = 0; slot < kPoseSlots; ++slot) set_ready_pose(s, slot);
   s.pose_valid = 1;
   s.pot_calibrated = 0;
+  s.stick_centre_counts[0] = s.stick_centre_counts[1] = 0;
   apply_config_calibration(s);
 }
 
@@ -83,25 +85,38 @@ void drop_poses_beyond_the_soft_stops(Settings& s) {
   }
 }
 
+// none (0 0), or a centre a new board's calibration would accept (the joystick's mid-scale:
+// adc_max / 2, 511)
+constexpr uint16_t kStickMid_counts = 1023 / 2;
+bool near_mid(uint16_t c) { return (uint16_t)(c - (kStickMid_counts - kStickCentreTolerance_counts)) <= 2 * kStickCentreTolerance_counts; }
+bool plausible_stick_centre(uint16_t x, uint16_t y) { return (x == 0 && y == 0) || (near_mid(x) && near_mid(y)); }
+
 bool plausible(const Settings& s) {
   for (uint8_t d = 0; d < 3; ++d) {
     if (!plausible(s.pot_at_min_counts_x16[d], s.pot_at_max_counts_x16[d])) return false;
   }
-  return true;
+  return plausible_stick_centre(s.stick_centre_counts[0], s.stick_centre_counts[1]);
 }
 
 }  // namespace
 
 // Version 1 was this block without pot_calibrated, and no command could set its calibration:
-// its poses are kept and its calibration is the config's.
+// its poses are kept and its calibration is the config's. Version 2 was the block without
+// stick_centre_counts: it keeps everything and has no stored centre (a new board's check).
 constexpr uint16_t kVersion1Bytes = offsetof(Settings, pot_calibrated);
+constexpr uint16_t kVersion2Bytes = offsetof(Settings, stick_centre_counts);
 static_assert(kVersion1Bytes == 6 * 2 + kPoseSlots * 6 * 4 + 1, "version 1's fields, packed as avr-gcc packs them");
+static_assert(kVersion2Bytes == kVersion1Bytes + 1, "version 2's fields, packed as avr-gcc packs them");
 eeprom_store::LoadResult load_settings(Settings& s) {
   eeprom_store::LoadResult r = eeprom_store::load(kSettingsVersion, &s, sizeof s);
-  if (r == eeprom_store::LoadResult::other_version &&
-      eeprom_store::load(1, &s, kVersion1Bytes) == eeprom_store::LoadResult::loaded) {
-    s.pot_calibrated = 0;
-    r = eeprom_store::LoadResult::loaded;
+  if (r == eeprom_store::LoadResult::other_version) {
+    s.stick_centre_counts[0] = s.stick_centre_counts[1] = 0;
+    if (eeprom_store::load(2, &s, kVersion2Bytes) == eeprom_store::LoadResult::loaded) {
+      r = eeprom_store::LoadResult::loaded;
+    } else if (eeprom_store::load(1, &s, kVersion1Bytes) == eeprom_store::LoadResult::loaded) {
+      s.pot_calibrated = 0;
+      r = eeprom_store::LoadResult::loaded;
+    }
   }
   if (r == eeprom_store::LoadResult::loaded) {
     apply_config_calibration(s);
@@ -123,6 +138,14 @@ bool set_pot_calibration(Settings& s, uint8_t d, int16_t at_min_counts_x16, int1
     s.pot_at_max_counts_x16[d] = at_max_counts_x16;
     s.pot_calibrated |= (uint8_t)(1 << d);
   }
+  save_settings(s);
+  return true;
+}
+
+bool set_stick_centre(Settings& s, uint16_t x_counts, uint16_t y_counts) {
+  if (!plausible_stick_centre(x_counts, y_counts)) return false;
+  s.stick_centre_counts[0] = x_counts;
+  s.stick_centre_counts[1] = y_counts;
   save_settings(s);
   return true;
 }

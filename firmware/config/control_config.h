@@ -20,6 +20,12 @@ constexpr uint8_t kStickCalibrationSamples = 16;
 constexpr uint16_t kStickCalibrationSpread_counts = 12;
 constexpr uint16_t kStickCentreTolerance_counts = 60;
 constexpr int16_t kStickDeadZone_permille = 20;  // SPEC 5: about 2 %
+// Once the stick's released centre is stored (cmd_stick_centre), a power-up centre further from
+// it than this is a hand on the stick, refused until it lets go. Released, the stick then reads
+// at most this far from the centre taken, plus 1 count that the joystick keeps a reading by
+// (axis()) and 2 of the ADC's noise (4 sigma of half a count): 8 counts, inside the dead zone's
+// 8.8 (2 % of 440), so it reads neutral. The 60 counts above are 13 % of a full stick.
+constexpr uint16_t kStickStoredCentreTolerance_counts = 5;
 constexpr int16_t kStickExpo_permille = 300;     // response curve (1 - k) r + k r^3
 constexpr uint16_t kStickRise_ms = 300;          // from rest to full deflection, at the least
 // From full back to rest, as long as the rise: a stop sets the arm swinging on J1's stepper (the
@@ -51,6 +57,8 @@ constexpr uint16_t kGripperRate_us_per_s = 500;
 
 static_assert(kLoopHz == 1000, "the loop's constants (ramps, gains per tick) assume 1 kHz");
 static_assert(kStickDeadZone_permille >= 0 && kStickDeadZone_permille < 200, "dead zone below 20 %");
+static_assert((kStickStoredCentreTolerance_counts + 1 + 2) * 1000 <= kStickDeadZone_permille * kStickFullDeflection_counts,
+              "a stick released after a calibration at the stored centre's tolerance reads inside the dead zone");
 static_assert(kStickExpo_permille >= 0 && kStickExpo_permille <= 1000, "expo in [0, 1]");
 static_assert(kStickRise_ms >= 50 && kStickFall_ms >= 20, "the stick's velocity ramps: no step changes");
 static_assert(kButtonDebounce_ms >= 5 && kButtonLongPress_ms > kButtonDebounce_ms, "button times");

@@ -16,7 +16,7 @@ enum class MsgType : uint8_t {
   state = 0x01, reply = 0x02, boot = 0x03, calibration = 0x04,  // firmware -> host
   cmd_stop = 0x10, cmd_rearm = 0x11, cmd_mode = 0x12, cmd_speed_scale = 0x13, cmd_home = 0x14,
   cmd_goto_pose = 0x15, cmd_store_pose = 0x16, cmd_velocity = 0x17, cmd_pot_calibration = 0x18,
-  cmd_get_calibration = 0x19,  // host -> firmware
+  cmd_get_calibration = 0x19, cmd_stick_centre = 0x1A,  // host -> firmware
 };
 
 enum class ReplyStatus : uint8_t { ok = 0, unknown_command = 1, bad_length = 2, bad_argument = 3, refused = 4 };
@@ -248,6 +248,10 @@ inline ReplyStatus check_command(const Frame& f) {
     case MsgType::cmd_store_pose:
       len = 1;
       limit = kPoseSlots;
+      break;
+    case MsgType::cmd_stick_centre:  // 1: store the stick's centre now, 0: forget the stored one
+      len = 1;
+      limit = 2;
       break;
     case MsgType::cmd_velocity:
       len = kVelocityPayloadBytes;

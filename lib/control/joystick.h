@@ -5,7 +5,11 @@
 // Pipeline, and why:
 //   1. centre calibration   the mean of the first samples (seed 2: 10 after 500 ms); refused
 //                           and restarted while they spread too much (stick moving) or sit
-//                           far from mid-scale (deflected at power-up);
+//                           far from mid-scale (deflected at power-up); once a centre measured
+//                           with the stick released is stored (set_stored_centre), far from
+//                           that instead, by the much tighter stored_tolerance: a hand resting
+//                           on the stick within centre_tolerance of mid-scale would otherwise
+//                           become the centre, and the stick released would drive the arm;
 //   2. rail check           a reading within rail_margin of 0 or full scale is a broken or
 //                           unplugged channel: it reads as neutral at once, and after
 //                           rail_ticks in a row latches a fault (flag) until the stick has
@@ -60,6 +64,7 @@ struct JoystickConfig {
   int16_t fall_q15;              // per tick of the caller's clock, > 0
   uint16_t neutral_ticks;        // > 0
   uint16_t full_deflection = 0;  // counts from the centre that are a full stick; 0: up to the rail margin
+  uint16_t stored_tolerance = 0;  // largest |centre - stored centre| once one is stored
 };
 
 struct JoystickOutput {
@@ -72,6 +77,7 @@ constexpr bool joystick_check(const JoystickConfig& c) {
   return c.adc_max >= 255 && c.rail_margin < c.adc_max / 4 && c.rail_ticks > 0 && c.calibration_samples > 0 &&
          c.calibration_samples <= 64 && c.centre_tolerance < c.adc_max / 4 && c.dead_zone_q15 >= 0 &&
          c.dead_zone_q15 < 16384 && c.expo_q15 >= 0 && c.rise_q15 > 0 && c.fall_q15 > 0 && c.neutral_ticks > 0 &&
+         c.stored_tolerance <= c.centre_tolerance &&
          (c.full_deflection == 0 || (c.full_deflection > c.adc_max / 8 && c.full_deflection < c.adc_max / 2));
 }
 
@@ -162,6 +168,15 @@ class Joystick {
 
   uint16_t centre(uint8_t axis) const { return centre_[axis]; }
 
+  // The stick's centre measured with it released (x, y counts), which every later calibration
+  // must agree with within stored_tolerance; 0 0: none stored, mid-scale within
+  // centre_tolerance as on a new board. Checked from the next calibration on: the one in use
+  // stays.
+  void set_stored_centre(uint16_t x, uint16_t y) {
+    stored_centre_[0] = x;
+    stored_centre_[1] = y;
+  }
+
   // Steps 5 and 6 alone (tests): square to disc, then the curve on the radius
   void shape(int16_t x, int16_t y, int16_t out[2]) const {
     const uint16_t ax = (uint16_t)(x < 0 ? -x : x), ay = (uint16_t)(y < 0 ? -y : y);
@@ -203,7 +218,10 @@ class Joystick {
     return (uint8_t)((calibrated_ ? 0 : kJoystickCalibrating) | (armed_ ? 0 : kJoystickNotArmed) | rail_flags_);
   }
 
-  void calibrate(const uint16_t raw[2], bool rail) {
+  // out of line and for size: it runs only until the centre is known; inlined into the
+  // caller's loop (at -O3 on the AVR) it took ~900 bytes of flash, none of the loop's time
+  // while the stick drives
+  __attribute__((noinline, cold, optimize("Os"))) void calibrate(const uint16_t raw[2], bool rail) {
     if (rail) {
       cal_count_ = 0;
       return;
@@ -219,11 +237,13 @@ class Joystick {
     }
     if (++cal_count_ < c_.calibration_samples) return;
     cal_count_ = 0;
-    const uint16_t mid = c_.adc_max / 2;
+    const bool stored = stored_centre_[0] != 0;
+    const uint16_t tolerance = stored ? c_.stored_tolerance : c_.centre_tolerance;
     for (uint8_t i = 0; i < 2; ++i) {
       const uint16_t centre = (uint16_t)((cal_sum_[i] + c_.calibration_samples / 2) / c_.calibration_samples);
-      const uint16_t off = centre > mid ? centre - mid : mid - centre;
-      if (cal_max_[i] - cal_min_[i] > c_.calibration_spread || off > c_.centre_tolerance) return;  // try again
+      const uint16_t expected = stored ? stored_centre_[i] : c_.adc_max / 2;
+      const uint16_t off = centre > expected ? centre - expected : expected - centre;
+      if (cal_max_[i] - cal_min_[i] > c_.calibration_spread || off > tolerance) return;  // try again
       centre_[i] = centre;
     }
     // per side: full deflection is the last reading before the rail margin, or closer
@@ -302,6 +322,7 @@ class Joystick {
   uint16_t cal_min_[2] = {0, 0};
   uint16_t cal_max_[2] = {0, 0};
   uint16_t centre_[2] = {0, 0};
+  uint16_t stored_centre_[2] = {0, 0};
   int16_t scale_hi_[2] = {0, 0};
   int16_t scale_lo_[2] = {0, 0};
   int16_t dead_scale_ = 32767;

@@ -68,6 +68,63 @@ TEST(Joystick, CentreCalibration) {
   EXPECT_FALSE(Joystick().configure(bad));
 }
 
+// With a centre stored from a released stick, a power-up centre must agree with it within
+// stored_tolerance: a hand resting on the stick 10 % off centre (inside the 100 counts of
+// mid-scale that a new board accepts) is refused, calibration retried, and once the stick is
+// released the released centre is taken. Released there, the stick reads neutral.
+TEST(Joystick, StoredCentreRefusesAStickHeldAtPowerUp) {
+  JoystickConfig c = config();
+  c.stored_tolerance = 5;
+  const uint16_t rest_x = 520, rest_y = 497;  // the stick's released centre, stored
+  const uint16_t held_x = rest_x - 50;        // held 10 % of its 500-count side off
+  // without a stored centre (a new board) the held stick becomes the centre, as before:
+  // released, it reads 10 % (8 % past the dead zone, 5 % through the curve) and drives
+  Joystick fresh;
+  ASSERT_TRUE(fresh.configure(c));
+  EXPECT_EQ(hold(fresh, held_x, rest_y, 200).status & kJoystickCalibrating, 0);
+  EXPECT_GT(hold(fresh, rest_x, rest_y, 2000).x_q15, 1000);
+
+  Joystick j;
+  ASSERT_TRUE(j.configure(c));
+  j.set_stored_centre(rest_x, rest_y);
+  std::mt19937 rng(2);
+  std::uniform_int_distribution<int> noise(-2, 2);
+  JoystickOutput o{};
+  for (int i = 0; i < 2000; ++i) o = j.update((uint16_t)(held_x + noise(rng)), (uint16_t)(rest_y + noise(rng)));
+  EXPECT_TRUE(o.status & kJoystickCalibrating) << "held off-centre: refused for as long as it is held";
+  EXPECT_EQ(o.x_q15, 0);
+  // just past the tolerance, still refused (whole rounds of 16 samples)
+  EXPECT_TRUE(hold(j, rest_x + 6, rest_y, 192).status & kJoystickCalibrating);
+  EXPECT_TRUE(hold(j, rest_x, rest_y - 6, 192).status & kJoystickCalibrating);
+  for (int i = 0; i < 16; ++i) o = j.update((uint16_t)(rest_x + noise(rng)), (uint16_t)(rest_y + noise(rng)));
+  EXPECT_EQ(o.status & kJoystickCalibrating, 0) << "released: calibrated";
+  EXPECT_NEAR(j.centre(0), rest_x, 1);
+  EXPECT_NEAR(j.centre(1), rest_y, 1);
+  for (int i = 0; i < 2000; ++i) {
+    o = j.update((uint16_t)(rest_x + noise(rng)), (uint16_t)(rest_y + noise(rng)));
+    ASSERT_EQ(o.x_q15, 0);
+    ASSERT_EQ(o.y_q15, 0);
+  }
+  EXPECT_EQ(o.status, 0) << "armed";
+  // a centre within the tolerance of the stored one is accepted, and the stick at the stored
+  // centre (its rest) is still inside the 2 % dead zone (10 counts)
+  Joystick near;
+  ASSERT_TRUE(near.configure(c));
+  near.set_stored_centre(rest_x, rest_y);
+  EXPECT_EQ(hold(near, rest_x + 5, rest_y - 5, 16).status & kJoystickCalibrating, 0);
+  const JoystickOutput at_rest = hold(near, rest_x, rest_y, 2000);
+  EXPECT_EQ(at_rest.status, 0);
+  EXPECT_EQ(at_rest.x_q15, 0);
+  EXPECT_EQ(at_rest.y_q15, 0);
+  // forgotten (0 0): mid-scale within centre_tolerance again
+  near.set_stored_centre(0, 0);
+  near.recalibrate();
+  EXPECT_EQ(hold(near, held_x, rest_y, 16).status & kJoystickCalibrating, 0);
+  // a tolerance wider than the nominal one is a configuration error
+  c.stored_tolerance = (uint16_t)(c.centre_tolerance + 1);
+  EXPECT_FALSE(Joystick().configure(c));
+}
+
 TEST(Joystick, NoOutputUntilNeutral) {
   Joystick j;
   ASSERT_TRUE(j.configure(config()));

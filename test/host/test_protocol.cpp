@@ -347,6 +347,10 @@ TEST(Commands, CheckCommand) {
   EXPECT_EQ(check(MsgType::cmd_pot_calibration, {9, 0xFF, 0xFF, 0, 0}), S::ok);
   EXPECT_EQ(check(MsgType::cmd_pot_calibration, {3, 0, 0, 0}), S::bad_length);
   EXPECT_EQ(check(MsgType::cmd_pot_calibration, {3, 0, 0, 0, 0, 0}), S::bad_length);
+  EXPECT_EQ(check(MsgType::cmd_stick_centre, {0}), S::ok);  // forget
+  EXPECT_EQ(check(MsgType::cmd_stick_centre, {1}), S::ok);  // store
+  EXPECT_EQ(check(MsgType::cmd_stick_centre, {2}), S::bad_argument);
+  EXPECT_EQ(check(MsgType::cmd_stick_centre, {}), S::bad_length);
   // not commands: the firmware's own types, the gaps around the command range
-  for (uint8_t t : {0x00, 0x01, 0x02, 0x03, 0x04, 0x0F, 0x1A, 0xFF}) EXPECT_EQ(check((MsgType)t, {}), S::unknown_command) << (int)t;
+  for (uint8_t t : {0x00, 0x01, 0x02, 0x03, 0x04, 0x0F, 0x1B, 0xFF}) EXPECT_EQ(check((MsgType)t, {}), S::unknown_command) << (int)t;
 }

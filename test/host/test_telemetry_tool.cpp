@@ -179,6 +179,8 @@ TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
       {"calibrate-from 3 6000 0 8000 60",
        "{\"type\":\"command\",\"command\":\"pot_calibration\",\"seq\":0,\"joint\":3,\"at_min_counts_x16\":1500,"
        "\"at_max_counts_x16\":11333}"},
+      {"stick-centre store", "{\"type\":\"command\",\"command\":\"stick_centre\",\"seq\":0,\"stick_centre\":\"store\"}"},
+      {"stick-centre forget", "{\"type\":\"command\",\"command\":\"stick_centre\",\"seq\":0,\"stick_centre\":\"forget\"}"},
   };
   std::vector<uint8_t> all;
   std::string expected;
@@ -199,7 +201,7 @@ TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
   CliRun r = cli("decode", path);  // stdin
   EXPECT_EQ(r.status, 0);
   EXPECT_EQ(r.out, expected);
-  EXPECT_EQ(r.err, "wmra-telemetry: frames 12, crc errors 0, framing errors 0, skipped bytes 1, seq gaps 0\n");
+  EXPECT_EQ(r.err, "wmra-telemetry: frames 14, crc errors 0, framing errors 0, skipped bytes 1, seq gaps 0\n");
   r = cli("decode " + path);  // a file
   EXPECT_EQ(r.out, expected);
   EXPECT_EQ(cli("encode stop").out, "a50110000017b1\n");  // the CRC by hand: docs/telemetry.md
@@ -249,6 +251,8 @@ TEST(WmraTelemetryCli, BadInputExitsWithTwo) {
       "encode calibrate-from 3 8000 0 6000 60",
       "encode calibrate-from 3 6000 x 8000 60",
       "encode calibrate-from 3 6000 0 8000",
+      "encode stick-centre 1",
+      "encode stick-centre",
       "encode stop --seq 256",
       "encode stop --seq",
       "decode a b",

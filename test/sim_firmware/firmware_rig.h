@@ -59,6 +59,8 @@ inline std::vector<uint8_t> settings_block(const app::Settings& s, uint8_t versi
     for (int32_t v : pose) put(v, 4);
   put(s.pose_valid, 1);
   if (version >= 2) put(s.pot_calibrated, 1);
+  if (version >= 3)
+    for (uint16_t v : s.stick_centre_counts) put(v, 2);
   std::vector<uint8_t> block = {'W', 'A', version, (uint8_t)data.size(), (uint8_t)(data.size() >> 8)};
   for (uint8_t b : data) block.push_back(b);
   uint16_t crc = protocol::kCrcInit;

@@ -163,6 +163,15 @@ TEST(FirmwareSafety, S10BehindTheStockBootloaderTheCauseIsInferred) {
   EXPECT_EQ(rig.last().reset_cause, 0x80 | 8);
 }
 
+// Sends a command, runs 50 ms and returns its reply's status (the one reply expected)
+protocol::ReplyStatus ask_firmware(Rig& rig, uint8_t& seq, protocol::MsgType type, const std::vector<uint8_t>& payload) {
+  const size_t replies = rig.telemetry.replies().size();
+  rig.sim.send_serial(command(type, seq++, payload));
+  rig.run_to(rig.sim.time_s() + 0.05);
+  EXPECT_EQ(rig.telemetry.replies().size(), replies + 1);
+  return (protocol::ReplyStatus)rig.telemetry.replies().back().status;
+}
+
 // A person's pot calibration (cmd_pot_calibration): refused while the drives are on, checked,
 // applied at once to the joint's measured angle, kept over a reset, and undone by 0 0.
 TEST(FirmwareCalibration, PotCalibrationByCommandIsCheckedKeptAndUndone) {
@@ -171,13 +180,7 @@ TEST(FirmwareCalibration, PotCalibrationByCommandIsCheckedKeptAndUndone) {
   Rig rig(kTestFirmware);
   uint8_t seq = 1;
   // the command's reply and, if it was ok, the calibration frame that follows it
-  const auto ask = [&](MsgType type, std::vector<uint8_t> payload) {
-    const size_t replies = rig.telemetry.replies().size();
-    rig.sim.send_serial(command(type, seq++, payload));
-    rig.run_to(rig.sim.time_s() + 0.05);
-    EXPECT_EQ(rig.telemetry.replies().size(), replies + 1);
-    return (ReplyStatus)rig.telemetry.replies().back().status;
-  };
+  const auto ask = [&](MsgType type, std::vector<uint8_t> payload) { return ask_firmware(rig, seq, type, payload); };
   const auto calibrate = [&](uint8_t joint, int16_t at_min, int16_t at_max) {
     return ask(MsgType::cmd_pot_calibration, {joint, (uint8_t)at_min, (uint8_t)(at_min >> 8), (uint8_t)at_max,
                                               (uint8_t)(at_max >> 8)});
@@ -303,6 +306,89 @@ TEST(FirmwareCalibration, PosesBeyondTheSoftStopsAreDropped) {
   ASSERT_EQ(rig.telemetry.replies().size(), 2u);
   EXPECT_EQ(rig.telemetry.replies()[1].status, (uint8_t)protocol::ReplyStatus::ok) << "slot 2, at the stop, kept";
   EXPECT_NEAR(rig.sim.q()[4] * 180 / M_PI, 87.0, 0.5) << "J5 at its soft stop";
+}
+
+// The review's scenario (a hand resting on the stick 10 % off centre at power-up, inside the
+// 60 counts of mid-scale a new board accepts) with the stick's released centre stored
+// (cmd_stick_centre): the power-up centre is refused while the stick is held, nothing moves,
+// and once it is let go the released centre is taken and the arm holds still. Without the
+// stored centre the held stick became the centre and, released, drove the hand 27 mm in 3 s.
+TEST(FirmwareStick, HeldAtPowerUpIsRefusedAgainstTheStoredCentre) {
+  using protocol::MsgType;
+  using protocol::ReplyStatus;
+  Rig rig(kTestFirmware);
+  uint8_t seq = 1;
+  const auto ask = [&](MsgType type, std::vector<uint8_t> payload) { return ask_firmware(rig, seq, type, payload); };
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0);
+  rig.sim.set_joystick(0.5, 0.0);
+  rig.run_to(t_running + 0.3);
+  EXPECT_EQ(ask(MsgType::cmd_stick_centre, {1}), ReplyStatus::refused) << "the stick is pushed";
+  rig.sim.set_joystick(0.0, 0.0);
+  rig.run_to(rig.sim.time_s() + 1.0);
+  ASSERT_EQ(ask(MsgType::cmd_stick_centre, {1}), ReplyStatus::ok) << "released: its centre stored";
+  rig.run_to(rig.sim.time_s() + 1.0);  // the block written to EEPROM (3.4 ms a byte)
+
+  // a reset (a hang: the watchdog) and a hand resting on the stick 10 % off centre from then on
+  rig.sim.send_serial(command((MsgType)0x7F, seq++));
+  rig.sim.set_joystick(0.10, 0.0);
+  rig.run_to(rig.sim.time_s() + 0.3);
+  ASSERT_GE(rig.telemetry.boots().size(), 2u);
+  EXPECT_EQ(rig.telemetry.boots().back().calibration, (uint8_t)protocol::Calibration::eeprom);
+  const double t_release = rig.sim.time_s() + 5.0;
+  bool moved = false, left_wait_neutral = false;
+  for (double t = rig.sim.time_s(); t < t_release; t += 0.05) {
+    rig.run_to(t);
+    moved |= !rig.sim.outputs_off();
+    left_wait_neutral |= rig.state() != core::ArmState::wait_neutral && rig.state() != core::ArmState::boot;
+  }
+  EXPECT_FALSE(moved) << "no output while the stick is held";
+  EXPECT_FALSE(left_wait_neutral) << "calibration refused: no homing while the stick is held";
+
+  rig.sim.set_joystick(0.0, 0.0);  // let go
+  const double t_running_again = rig.run_until_state(core::ArmState::running, t_release + 12.0);
+  ASSERT_GT(t_running_again, 0) << "released: calibrated and on to running";
+  rig.run_to(t_running_again + 0.5);
+  const armsim::TrajectoryRow start = rig.pose();
+  for (double t = t_running_again + 0.5; t < t_running_again + 3.5; t += 0.05) {
+    rig.run_to(t);
+    ASSERT_EQ(rig.last().stick_permille[0], 0) << "at " << t << " s";
+    ASSERT_EQ(rig.last().stick_permille[1], 0) << "at " << t << " s";
+  }
+  EXPECT_LT(distance_mm(rig.pose().p, start.p), 1.0) << "the released stick drives nothing";
+
+  // forgotten: a new board's check again (the held stick is within its 60 counts)
+  ASSERT_EQ(ask(MsgType::cmd_stick_centre, {0}), ReplyStatus::ok);
+}
+
+// A board whose EEPROM has no stored centre (here a version 2 block, from before the stored
+// centre: it keeps its calibration) checks the power-up centre against mid-scale as before: the
+// stick held 10 % off centre is within the 60 counts, taken as the centre, and the arm runs.
+TEST(FirmwareStick, WithoutAStoredCentreTheNominalCheckAsBefore) {
+  Rig rig(kFirmware);
+  app::Settings settings{};
+  const int16_t config_min = (int16_t)(config::kPotAtMin_mV * 1024L * 16 / config::kAdcRef_mV);
+  const int16_t config_max = (int16_t)(config::kPotAtMax_mV * 1024L * 16 / config::kAdcRef_mV);
+  for (int d = 0; d < 3; ++d) {
+    settings.pot_at_min_counts_x16[d] = config_min;
+    settings.pot_at_max_counts_x16[d] = config_max;
+  }
+  const double ready_deg[6] = {70, 20, -70, 50, -30, 0};
+  for (int slot = 0; slot < 4; ++slot)
+    for (int j = 0; j < 6; ++j) settings.pose_angle[slot][j] = (int32_t)std::llround(ready_deg[j] * M_PI / 180 * core::kAngleCountsPerRad);
+  settings.pose_valid = 1;
+  settings.pot_calibrated = 0x04;  // J4's set by a person: kept from the version 2 block
+  const std::vector<uint8_t> block = test::settings_block(settings, 2);
+  ASSERT_EQ(block.size(), 5u + 110u + 2u);
+  rig.sim.set_eeprom(block);
+  rig.sim.set_joystick(0.10, 0.0);
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0) << "the held stick is taken as the centre, as before";
+  EXPECT_EQ(rig.telemetry.boots()[0].calibration, (uint8_t)protocol::Calibration::eeprom);
+  rig.sim.send_serial(command(protocol::MsgType::cmd_get_calibration, 1));
+  rig.run_to(t_running + 0.1);
+  ASSERT_EQ(rig.telemetry.calibrations().size(), 1u);
+  EXPECT_EQ(rig.telemetry.calibrations()[0].from_command, 0x04);
 }
 
 // A move to a stored pose that the person takes over with the stick: the steppers brake to rest

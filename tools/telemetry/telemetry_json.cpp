@@ -123,6 +123,7 @@ void add_command_argument(Object& o, const Frame& f) {
     case MsgType::cmd_speed_scale: o.num("speed_scale_pct", f.payload[0]); break;
     case MsgType::cmd_goto_pose:
     case MsgType::cmd_store_pose: o.num("slot", f.payload[0]); break;
+    case MsgType::cmd_stick_centre: o.str("stick_centre", f.payload[0] ? "store" : "forget"); break;
     case MsgType::cmd_velocity: {
       protocol::VelocityCmd v;
       protocol::decode(f, v);
@@ -172,6 +173,7 @@ const char* type_name(uint8_t type) {
     case MsgType::cmd_velocity: return "velocity";
     case MsgType::cmd_pot_calibration: return "pot_calibration";
     case MsgType::cmd_get_calibration: return "get_calibration";
+    case MsgType::cmd_stick_centre: return "stick_centre";
   }
   return nullptr;
 }

@@ -144,7 +144,7 @@ std::string encode(const std::vector<std::string>& words, uint8_t seq) {
       {"mode", MsgType::cmd_mode, 1},         {"speed", MsgType::cmd_speed_scale, 1}, {"goto", MsgType::cmd_goto_pose, 1},
       {"store", MsgType::cmd_store_pose, 1}, {"velocity", MsgType::cmd_velocity, 6},
       {"calibration", MsgType::cmd_get_calibration, 0}, {"calibrate", MsgType::cmd_pot_calibration, 3},
-      {"calibrate-from", MsgType::cmd_pot_calibration, 5},
+      {"calibrate-from", MsgType::cmd_pot_calibration, 5}, {"stick-centre", MsgType::cmd_stick_centre, 1},
   };
   if (words.empty()) throw BadInput{"encode wants a command"};
   const std::string& word = words[0];
@@ -168,6 +168,10 @@ std::string encode(const std::vector<std::string>& words, uint8_t seq) {
       if (payload[0] == protocol::kModeValues) throw BadInput{"mode must be xy, xz, r1, r2 or gripper, not '" + words[1] + "'"};
       break;
     case MsgType::cmd_speed_scale: payload[0] = (uint8_t)parse_int(words[1], 0, 100, "speed (percent)"); break;
+    case MsgType::cmd_stick_centre:
+      if (words[1] != "store" && words[1] != "forget") throw BadInput{"stick-centre must be store or forget, not '" + words[1] + "'"};
+      payload[0] = words[1] == "store";
+      break;
     case MsgType::cmd_goto_pose:
     case MsgType::cmd_store_pose:
       payload[0] = (uint8_t)parse_int(words[1], 0, protocol::kPoseSlots - 1, word + " (slot)");
