@@ -391,11 +391,9 @@ TEST(FirmwareStick, WithoutAStoredCentreTheNominalCheckAsBefore) {
   EXPECT_EQ(rig.telemetry.calibrations()[0].from_command, 0x04);
 }
 
-// A move to a stored pose that the person takes over with the stick: the steppers brake to rest
-// on their ramps, then the stick drives. (Their ramps were cut at move speed: J1, carrying the
-// arm at 0.4 rad/s, lost steps and the firmware no longer knew where it was.)
-TEST(FirmwarePoses, AMoveTakenOverByTheStickBrakesWithoutLosingSteps) {
-  Rig rig(kFirmware);
+// The ready pose and slot 1 stored (J1 40 deg from the ready pose's 70, J5 -70 from -30); the
+// rig run until running, the time returned (-1: never)
+double run_with_slot_1_stored(Rig& rig) {
   app::Settings settings{};
   const double ready_deg[6] = {70, 20, -70, 50, -30, 0}, slot1_deg[6] = {40, 20, -70, 50, -70, 0};
   for (int slot = 0; slot < 4; ++slot)
@@ -403,7 +401,15 @@ TEST(FirmwarePoses, AMoveTakenOverByTheStickBrakesWithoutLosingSteps) {
       settings.pose_angle[slot][j] = (int32_t)std::llround((slot == 1 ? slot1_deg : ready_deg)[j] * M_PI / 180 * core::kAngleCountsPerRad);
   settings.pose_valid = 0x03;
   rig.sim.set_eeprom(test::settings_block(settings));
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  return rig.run_until_state(core::ArmState::running, 12.0);
+}
+
+// A move to a stored pose that the person takes over with the stick: the steppers brake to rest
+// on their ramps, then the stick drives. (Their ramps were cut at move speed: J1, carrying the
+// arm at 0.4 rad/s, lost steps and the firmware no longer knew where it was.)
+TEST(FirmwarePoses, AMoveTakenOverByTheStickBrakesWithoutLosingSteps) {
+  Rig rig(kFirmware);
+  const double t_running = run_with_slot_1_stored(rig);
   ASSERT_GT(t_running, 0);
   rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 1, {1}));
   const double t_takeover = t_running + 1.0;  // J1 at its move speed (0.4 rad/s), 0.3 rad to go
@@ -428,14 +434,7 @@ TEST(FirmwarePoses, AMoveTakenOverByTheStickBrakesWithoutLosingSteps) {
 // the stick is lost brakes as on a takeover.
 TEST(FirmwarePoses, NoMoveNorStreamWithTheStickAtARail) {
   Rig rig(kFirmware);
-  app::Settings settings{};
-  const double ready_deg[6] = {70, 20, -70, 50, -30, 0}, slot1_deg[6] = {40, 20, -70, 50, -70, 0};
-  for (int slot = 0; slot < 4; ++slot)
-    for (int j = 0; j < 6; ++j)
-      settings.pose_angle[slot][j] = (int32_t)std::llround((slot == 1 ? slot1_deg : ready_deg)[j] * M_PI / 180 * core::kAngleCountsPerRad);
-  settings.pose_valid = 0x03;
-  rig.sim.set_eeprom(test::settings_block(settings));
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = run_with_slot_1_stored(rig);
   ASSERT_GT(t_running, 0);
   rig.sim.set_joystick_unplugged(true);
   rig.run_to(t_running + 0.1);
