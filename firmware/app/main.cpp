@@ -29,7 +29,7 @@ int main() {
   bridges::start();
   pins::write(board::kTimingProbe, false);
   pins::output(board::kTimingProbe);
-  watchdog::start();
+  watchdog::start(&app::stop_from_interrupt);
 
   static app::Settings settings;
   const eeprom_store::LoadResult loaded = app::load_settings(settings);

@@ -90,7 +90,10 @@ ISR(TIMER1_COMPA_vect) {
   tick::g_ms = tick::g_ms + 1;
   const uint8_t pending = tick::g_pending;
   if (pending != 255) tick::g_pending = (uint8_t)(pending + 1);
-  if (pending == watchdog::kStallMark_ms) watchdog::mark_stall();  // for the next boot's reset cause
+  // The loop has stalled: entered by a jump, not a call, which would make this ISR save every
+  // call-clobbered register on every tick. stalled() never returns, so this frame and the
+  // registers it did not save never matter; r1 is cleared for its C code.
+  if (pending == watchdog::kStallCut_ms) asm volatile("clr __zero_reg__\n\tjmp %x0" ::"i"(&watchdog::stalled));
 }
 
 // OC1C has just toggled. Switched off only after a falling edge, so the compare unit's output

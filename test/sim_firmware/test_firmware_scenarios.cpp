@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 #include "config/control_config.h"
 #include "config/joints_config.h"
 #include "core/joint_map.h"
 #include "core/resolved_rate.h"
+#include "drivers/watchdog.h"
 #include "firmware_rig.h"
 #include "kinematics/arm_model.h"
 #include "plant/arm_plant_config.h"
@@ -128,16 +130,38 @@ TEST(FirmwareSafety, SafetyButtonOutputsStayOffWhateverThePhaseOfTheLoop) {
   for (const std::string& s : redriven) ADD_FAILURE() << s;
 }
 
-// S10: a hung main loop (test build) ends in a watchdog reset, outputs off, and the cause reported
+// S10: a hung main loop (test build) while the stick drives: every output off kStallCut_ms after
+// the loop stopped taking its ticks (the tick's ISR, watchdog.h), where the watchdog alone left
+// the steppers at their last speed and the bridges at their last duty for its 60 ms; then a
+// watchdog reset, the outputs off up to it, and the cause reported.
 TEST(FirmwareSafety, S10HangEndsInWatchdogResetReported) {
   Rig rig(kTestFirmware);
   const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
   ASSERT_GT(t_running, 0);
+  rig.sim.set_joystick(1, 0);
+  rig.run_to(t_running + 0.5);
+  ASSERT_FALSE(rig.sim.outputs_off()) << "the arm driven when the loop hangs";
+  const double t_hang_s = rig.sim.time_s();
+  double off_s = -1;
+  bool on_again = false;  // an output driven again after the cut, before the reset
+  rig.sim.every(20e-6, [&](const sim::ArmSimulator& s) {
+    if (!s.measurements().resets.empty()) return;
+    const bool off = s.outputs_off();
+    if (off && off_s < 0) off_s = s.time_s();
+    if (!off && off_s >= 0) on_again = true;
+  });
   rig.sim.send_serial(command((protocol::MsgType)0x7F, 1));
-  rig.run_to(t_running + 0.3);
+  rig.run_to(t_hang_s + 0.3);
   const sim::Measurements m = rig.sim.measurements();
   ASSERT_EQ(m.resets.size(), 1u);
   EXPECT_EQ(m.resets[0].cause, "watchdog");
+  const double reset_s = m.resets[0].cycle / 16e6;
+  std::printf("hang command sent at %.4f s: outputs off %.2f ms after it, the reset %.2f ms after it\n", t_hang_s,
+              (off_s - t_hang_s) * 1e3, (reset_s - t_hang_s) * 1e3);
+  // the command's 8 bytes on the line (0.7 ms) and the iteration before it is read (1 ms)
+  ASSERT_GE(off_s, 0) << "outputs never off before the reset";
+  EXPECT_LE(off_s - t_hang_s, (watchdog::kStallCut_ms + 2) / 1000.0);
+  EXPECT_FALSE(on_again);
   EXPECT_TRUE(rig.sim.outputs_off());
   ASSERT_GE(rig.telemetry.boots().size(), 2u);
   EXPECT_NE(rig.telemetry.boots().back().reset_cause & 8, 0) << "the boot frame after the reset names the watchdog";
