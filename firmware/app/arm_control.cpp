@@ -1,6 +1,7 @@
 #include "app/arm_control.h"
 
 #include "app/settings.h"
+#include "app/velocity_request.h"
 #include "config/control_config.h"
 #include "config/joints_config.h"
 #include "control/button.h"
@@ -411,10 +412,6 @@ core::DriveSpeeds g_drives = {{kLimits.joint[0].speed_rad_s, kLimits.joint[1].sp
                               {kLimits.joint[0].speed_rad_s, kLimits.joint[1].speed_rad_s, kLimits.joint[2].speed_rad_s,
                                kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s}};
 
-fx::Real clamp_real(fx::Real r, int32_t limit) {
-  return fx::Real{r.raw > limit ? limit : r.raw < -limit ? -limit : r.raw};
-}
-
 // the drift correction's velocity for a position error (Q23 m): error x gain, within the
 // largest correction. Beyond the largest / gain the product is clamped anyway, and within it
 // the error fits 16 bits: one 16x16 product (a 32-bit one is a library call, ~100 cycles).
@@ -426,19 +423,6 @@ fx::Real drift_correction(int32_t error) {
   if (error < -kMaxCorrectedError) return fx::Real{kDriftGain_per_s > 0 ? -kMaxCorrection : 0};
   const int32_t c = (int32_t)fx::mul_uu((uint16_t)(error < 0 ? -error : error), (uint16_t)kDriftGain_per_s);
   return fx::Real{error < 0 ? -c : c};
-}
-
-// (its w about the wrist axes, as J^-1 takes it: a telemetry command, rare; built for size)
-WMRA_SMALL kin::TwistWrist<Fixed> velocity_twist(const Requests& rq, const kin::JacobianTrig<Fixed>& trig) {
-  constexpr int32_t kRealPerMilli = 8389;  // Q23 per 1/1000 (m/s from mm/s, rad/s from mrad/s)
-  constexpr int32_t kHand = fx::real(kMaxHandSpeed_m_s).raw, kWrist = fx::real(kMaxWristSpeed_rad_s).raw;
-  kin::Twist<Fixed> t;
-  t.v_m_s = {clamp_real(fx::Real{rq.v_mm_s[0] * kRealPerMilli}, kHand), clamp_real(fx::Real{rq.v_mm_s[1] * kRealPerMilli}, kHand),
-             clamp_real(fx::Real{rq.v_mm_s[2] * kRealPerMilli}, kHand)};
-  t.w_rad_s = {clamp_real(fx::Real{rq.w_mrad_s[0] * kRealPerMilli}, kWrist),
-               clamp_real(fx::Real{rq.w_mrad_s[1] * kRealPerMilli}, kWrist),
-               clamp_real(fx::Real{rq.w_mrad_s[2] * kRealPerMilli}, kWrist)};
-  return kin::twist_wrist<Fixed>(trig, t);
 }
 
 // The servo gets no pulse until the person first moves the stick in the gripper mode: the first
