@@ -1,6 +1,7 @@
 #include "app/arm_control.h"
 
 #include "app/settings.h"
+#include "app/velocity_request.h"
 #include "config/control_config.h"
 #include "config/joints_config.h"
 #include "control/button.h"
@@ -411,10 +412,6 @@ core::DriveSpeeds g_drives = {{kLimits.joint[0].speed_rad_s, kLimits.joint[1].sp
                               {kLimits.joint[0].speed_rad_s, kLimits.joint[1].speed_rad_s, kLimits.joint[2].speed_rad_s,
                                kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s}};
 
-fx::Real clamp_real(fx::Real r, int32_t limit) {
-  return fx::Real{r.raw > limit ? limit : r.raw < -limit ? -limit : r.raw};
-}
-
 // the drift correction's velocity for a position error (Q23 m): error x gain, within the
 // largest correction. Beyond the largest / gain the product is clamped anyway, and within it
 // the error fits 16 bits: one 16x16 product (a 32-bit one is a library call, ~100 cycles).
@@ -426,19 +423,6 @@ fx::Real drift_correction(int32_t error) {
   if (error < -kMaxCorrectedError) return fx::Real{kDriftGain_per_s > 0 ? -kMaxCorrection : 0};
   const int32_t c = (int32_t)fx::mul_uu((uint16_t)(error < 0 ? -error : error), (uint16_t)kDriftGain_per_s);
   return fx::Real{error < 0 ? -c : c};
-}
-
-// (its w about the wrist axes, as J^-1 takes it: a telemetry command, rare; built for size)
-WMRA_SMALL kin::TwistWrist<Fixed> velocity_twist(const Requests& rq, const kin::JacobianTrig<Fixed>& trig) {
-  constexpr int32_t kRealPerMilli = 8389;  // Q23 per 1/1000 (m/s from mm/s, rad/s from mrad/s)
-  constexpr int32_t kHand = fx::real(kMaxHandSpeed_m_s).raw, kWrist = fx::real(kMaxWristSpeed_rad_s).raw;
-  kin::Twist<Fixed> t;
-  t.v_m_s = {clamp_real(fx::Real{rq.v_mm_s[0] * kRealPerMilli}, kHand), clamp_real(fx::Real{rq.v_mm_s[1] * kRealPerMilli}, kHand),
-             clamp_real(fx::Real{rq.v_mm_s[2] * kRealPerMilli}, kHand)};
-  t.w_rad_s = {clamp_real(fx::Real{rq.w_mrad_s[0] * kRealPerMilli}, kWrist),
-               clamp_real(fx::Real{rq.w_mrad_s[1] * kRealPerMilli}, kWrist),
-               clamp_real(fx::Real{rq.w_mrad_s[2] * kRealPerMilli}, kWrist)};
-  return kin::twist_wrist<Fixed>(trig, t);
 }
 
 // The servo gets no pulse until the person first moves the stick in the gripper mode: the first
@@ -770,10 +754,22 @@ constexpr core::DcServoConfig dc_servo_config(uint8_t d) {
 constexpr core::DcServoConfig kDcServoConfig[3] = {dc_servo_config(0), dc_servo_config(1), dc_servo_config(2)};
 
 // a lag of `mrad` in pot units, from the calibration's pot units over Angle counts (integers,
-// like PotMap::make; Q24 counts per mrad)
-constexpr uint64_t kAngleCountsPerMrad_q24 = (uint64_t)(core::kAngleCountsPerRad / 1000.0 * 16777216.0 + 0.5);
-WMRA_COLD int32_t lag_units(uint32_t units, uint32_t counts, int16_t mrad) {
-  return (int32_t)(((uint64_t)units * (uint16_t)mrad * kAngleCountsPerMrad_q24 / counts) >> 24);
+// like PotMap::make; Q24 counts per mrad): floor(units mrad K / counts / 2^24) =
+// floor(floor(a K / 2^24) / counts) with a = units mrad (floors compose), the product a K in
+// 16-bit halves (a 64-bit one linked libgcc's 64-bit multiply and division, ~700 B of flash):
+// a K = ah kh 2^32 + (ah kl + al kh) 2^16 + al kl, each term within 32 bits for a < 2^24
+constexpr uint32_t kAngleCountsPerMrad_q24 = (uint32_t)(core::kAngleCountsPerRad / 1000.0 * 16777216.0 + 0.5);
+static_assert(kAngleCountsPerMrad_q24 < (1ul << 30), "ah kl + al kh fits 31 bits");
+static_assert(kTrackingSlowFrom_mrad > 0 && kTrackingStopAt_mrad < 1024 && kTrackingFault_mrad < 1024 &&
+                  1023 * 16 * 1023L < (1L << 24),
+              "a calibration's span of pot units (< 2^14) times a lag in mrad fits 24 bits");
+WMRA_COLD int32_t lag_units(uint16_t units, uint32_t counts, uint16_t mrad) {
+  constexpr uint16_t kh = (uint16_t)(kAngleCountsPerMrad_q24 >> 16), kl = (uint16_t)kAngleCountsPerMrad_q24;
+  const uint32_t a = fx::mul_uu(units, mrad);
+  const uint16_t ah = (uint16_t)(a >> 16), al = (uint16_t)a;
+  const uint32_t middle = fx::mul_uu(ah, kl) + fx::mul_uu(al, kh) + (fx::mul_uu(al, kl) >> 16);
+  const uint32_t a_k_q24 = (fx::mul_uu(ah, kh) << 8) + (middle >> 8);  // floor(a K / 2^24)
+  return (int32_t)(a_k_q24 / counts);
 }
 
 // a DC joint's pot map and its tracking thresholds in pot units, from the calibration
@@ -782,7 +778,8 @@ WMRA_COLD void configure_pot(const Settings& settings, uint8_t d) {
   const uint8_t j = kDcJoint[d];
   const int32_t at_min = settings.pot_at_min_counts_x16[d], at_max = settings.pot_at_max_counts_x16[d];
   g_dc[d].pot = core::PotMap::make(L::min[j], L::max[j], at_min, at_max);
-  const uint32_t units = (uint32_t)(at_max - at_min), counts = (uint32_t)(L::max[j].raw - L::min[j].raw);
+  const uint16_t units = (uint16_t)(at_max - at_min);  // within [600, 1023] counts x 16 (settings.cpp)
+  const uint32_t counts = (uint32_t)(L::max[j].raw - L::min[j].raw);
   g_lag_slow_units[d] = lag_units(units, counts, kTrackingSlowFrom_mrad);
   g_lag_stop_units[d] = lag_units(units, counts, kTrackingStopAt_mrad);
   const int32_t fault_units = lag_units(units, counts, kTrackingFault_mrad);

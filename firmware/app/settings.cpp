@@ -39,8 +39,20 @@ void apply_config_calibration(Settings& s) {
   }
 }
 
+// The ready pose in Angle counts, in flash: converted at run time (a joint a run-time index)
+// angle_deg's Ratio was 64-bit arithmetic, which linked libgcc's 64-bit division
+struct PoseCounts {
+  int32_t angle[6];
+};
+constexpr PoseCounts ready_pose() {
+  PoseCounts p{};
+  for (uint8_t j = 0; j < 6; ++j) p.angle[j] = fx::angle_deg(Ratio{kReadyPose_deg[j], 1}).raw;
+  return p;
+}
+constexpr PoseCounts kReadyPose WMRA_FLASH = ready_pose();
+
 void set_ready_pose(Settings& s, uint8_t slot) {
-  for (uint8_t j = 0; j < 6; ++j) s.pose_angle[slot][j] = fx::angle_deg(Ratio{kReadyPose_deg[j], 1}).raw;
+  for (uint8_t j = 0; j < 6; ++j) s.pose_angle[slot][j] = fx::flash_read_i32(&kReadyPose.angle[j]);
 }
 
 void set_defaults(Settings& s) {

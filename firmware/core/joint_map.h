@@ -41,11 +41,16 @@ constexpr Scale scale_for(double factor) {
 }
 
 // The same Scale for num / den > 0 at run time (a calibration from EEPROM), in integers: float
-// arithmetic would link the AVR's float library for one boot-time computation.
-// num / den = f 2^e with f in [0.5, 1), m = round(f 2^15) = floor((n 2^16 + d) / (2 d)).
-inline Scale scale_for_ratio(uint32_t num, uint32_t den) {
+// arithmetic would link the AVR's float library for one boot-time computation, and 64-bit
+// integers libgcc's 64-bit division (~700 B of flash).
+// num / den = f 2^e with f in [0.5, 1), m = round(f 2^15) = floor((n 2^16 + d) / (2 d))
+// = floor((floor(n 2^16 / d) + 1) / 2) (floors compose), the quotient's 16 bits by long
+// division: the remainder r < d doubles into r - (d - r) or r + r, never past 32 bits.
+// For num, den < 2^31 (d << 1 and 2 n stay within 32 bits). At boot and at a calibration only:
+// built for size (at -O3 its loop was unrolled, 1.4 KB).
+__attribute__((cold, optimize("Os"))) inline Scale scale_for_ratio(uint32_t num, uint32_t den) {
   int8_t e = 0;
-  uint64_t n = num, d = den;
+  uint32_t n = num, d = den;
   while (n >= d) {
     d <<= 1;
     ++e;
@@ -54,7 +59,19 @@ inline Scale scale_for_ratio(uint32_t num, uint32_t den) {
     n <<= 1;
     --e;
   }
-  const uint64_t m = ((n << 16) + d) / (2 * d);
+  uint32_t r = n;
+  uint16_t q = 0;
+  for (uint8_t bit = 0; bit < 16; ++bit) {
+    const uint32_t rest = d - r;
+    q = (uint16_t)(q << 1);
+    if (r >= rest) {
+      r -= rest;
+      q |= 1;
+    } else {
+      r += r;
+    }
+  }
+  const uint16_t m = (uint16_t)((q >> 1) + (q & 1));  // (q + 1) / 2: q + 1 overflows 16 bits
   return m >= 32768 ? Scale{16384, (int8_t)(e + 1)} : Scale{(int16_t)m, e};
 }
 
@@ -246,7 +263,7 @@ struct PotMap {
 
   // from the pot units (ADC counts x 16) read at the joint's two limits (a calibration),
   // units_at_max > units_at_min, q_max > q_min. At boot and at a calibration only: built for
-  // size (its 64-bit divisions took 1,156 bytes of flash at -O3)
+  // size (with 64-bit divisions at -O3 it took 1,156 bytes of flash)
   __attribute__((cold, optimize("Os"))) static PotMap make(fx::Angle q_min, fx::Angle q_max, int32_t units_at_min, int32_t units_at_max) {
     const uint32_t units = (uint32_t)(units_at_max - units_at_min), counts = (uint32_t)(q_max.raw - q_min.raw);
     return PotMap{q_min, units_at_min, scale_for_ratio(units, counts), scale_for_ratio(counts, units)};

@@ -91,7 +91,8 @@ constexpr PidGainsResult pid_gains(Ratio kp, Ratio ki_per_s, Ratio kd_s, int32_t
 
 class Pid {
  public:
-  PidStatus configure(const PidConfig& c) {
+  // (at start-up only: built for size)
+  __attribute__((cold, optimize("Os"))) PidStatus configure(const PidConfig& c) {
     const PidStatus s = pid_check(c);
     if (s != PidStatus::ok) return s;
     c_ = c;

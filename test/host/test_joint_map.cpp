@@ -83,6 +83,46 @@ TEST(Scale, ApplyIsTheProductShiftedOnce) {
   EXPECT_EQ(wrong, 0);
 }
 
+// scale_for_ratio in 32 bits (a long division for the mantissa) against its formula in 64-bit
+// arithmetic, m = floor((n 2^16 + d) / (2 d)) once num / den is normalised to [0.5, 1), over
+// random ratios of every size (num, den < 2^31), the calibrations' (units over Angle counts and
+// back) and the mantissas that round up to 2^15 (the exponent's carry). Seeded: deterministic.
+core::Scale scale_want(uint32_t num, uint32_t den) {
+  int8_t e = 0;
+  uint64_t n = num, d = den;
+  while (n >= d) {
+    d <<= 1;
+    ++e;
+  }
+  while (2 * n < d) {
+    n <<= 1;
+    --e;
+  }
+  const uint64_t m = ((n << 16) + d) / (2 * d);
+  return m >= 32768 ? core::Scale{16384, (int8_t)(e + 1)} : core::Scale{(int16_t)m, e};
+}
+TEST(Scale, ForRatioIsTheRoundedRatio) {
+  vectors::Lcg rng{2113u};
+  int wrong = 0, carries = 0;
+  auto check = [&](uint32_t num, uint32_t den) {
+    const core::Scale got = core::scale_for_ratio(num, den), want = scale_want(num, den);
+    if (want.m == 16384 && got.m == 16384) ++carries;
+    if ((got.m != want.m || got.e != want.e) && wrong++ < 5)
+      ADD_FAILURE() << num << " / " << den << ": m " << got.m << " e " << (int)got.e << ", want " << want.m << " " << (int)want.e;
+  };
+  for (int n = 0; n < 400000; ++n) {
+    const uint32_t num = (rng.next() & 0x7FFFFFFFu) >> (n % 31), den = (rng.next() & 0x7FFFFFFFu) >> ((n / 31) % 31);
+    check(num | 1u, den | 1u);
+  }
+  for (uint32_t units = 1; units < 16384; ++units) {
+    check(units, 233017u);
+    check(233017u, units);
+  }
+  for (uint32_t den = 65537; den < 65537 + 4096; ++den) check(den - 1, den);  // m rounds up to 2^15
+  EXPECT_EQ(wrong, 0);
+  EXPECT_GT(carries, 1000);
+}
+
 // the 64-bit formula of apply() (above)
 int32_t applied(core::Scale s, int32_t x) {
   const int64_t product = (int64_t)x * s.m - (int64_t)(x & 0xFF) * (s.m & 0xFF);
