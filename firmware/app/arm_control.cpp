@@ -142,8 +142,6 @@ constexpr DcFeedforward kDcFeedforward[3] = {
     {fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[1]}), (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[1], 1), brake_feedforward_q8(1)},
     {fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[2]}), (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[2], 2), brake_feedforward_q8(2)}};
 
-// switch bits (inputs.h): 2j low, 2j+1 high; J6's zero switch is passed in normal motion
-constexpr uint16_t kSwitchesArmed = 0x3FF;
 constexpr uint16_t kHomingSwitch[3] = {1u << 1, 1u << 8, inputs::kJ6ZeroSwitch};  // J1 high, J5 low, J6 zero
 constexpr uint16_t kSwitchesArmedHoming = kSwitchesArmed & ~(1u << 1) & ~(1u << 8);
 static_assert(kHomingDir[0] > 0 && kHomingDir[1] < 0, "J1 homes to its high switch, J5 to its low one");
@@ -412,6 +410,16 @@ core::DriveSpeeds g_drives = {{kLimits.joint[0].speed_rad_s, kLimits.joint[1].sp
                               {kLimits.joint[0].speed_rad_s, kLimits.joint[1].speed_rad_s, kLimits.joint[2].speed_rad_s,
                                kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s}};
 
+// The steppers' drives at their speed limits, and no drive towards a switch that is closed
+// (the DC joints' speeds are the governor's, set just before or at its last run)
+WMRA_COLD void stop_drives_at_switches() {
+  for (uint8_t i = 0; i < 3; ++i) {
+    const uint8_t j = kStepperJoint[i];
+    g_drives.positive_rad_s[j] = g_drives.negative_rad_s[j] = kLimits.joint[j].speed_rad_s;
+  }
+  core::stop_towards_switches(g_drives, inputs::closed_switches() & kSwitchesArmed);
+}
+
 // the drift correction's velocity for a position error (Q23 m): error x gain, within the
 // largest correction. Beyond the largest / gain the product is clamped anyway, and within it
 // the error fits 16 bits: one 16x16 product (a 32-bit one is a library call, ~100 cycles).
@@ -527,6 +535,7 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
 // (J3 ended the move to the ready pose 13 mrad short and crept there over 3 s).
 WMRA_COLD void start_running() {
   drives_on();
+  stop_drives_at_switches();
   g_p_cmd = kin::hand_position<Fixed>(kin::jacobian_trig<Fixed>(g_q.q));
   g_drift_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};  // what it is with the commanded position where the hand is
   g_v_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
@@ -644,6 +653,7 @@ WMRA_SMALL void update_governor() {
     g_drives.positive_rad_s[kDcJoint[d]] = fx::Unit{up > 0 ? up : (int16_t)0} * kPlannedSpeed[d];
     g_drives.negative_rad_s[kDcJoint[d]] = fx::Unit{down > 0 ? down : (int16_t)0} * kPlannedSpeed[d];
   }
+  stop_drives_at_switches();
 }
 
 constexpr int32_t kStandingSpeed = fx::real(Ratio{kDcStandingSpeed_mrad_s, 1000}).raw;

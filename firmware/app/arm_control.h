@@ -58,6 +58,10 @@ struct Status {
 // 0.15 m/s it is at most 1.2 mm behind the frame's angles (2.4 after an overrun).
 constexpr uint8_t kHandPositionAge_ms = 16;
 
+// The limit switches armed while the arm runs or moves to a pose (bits as inputs.h's: 2j the
+// low end's, 2j+1 the high end's); J6's zero switch is passed in normal motion.
+constexpr uint16_t kSwitchesArmed = 0x3FF;
+
 void start(Settings& settings);
 // one control iteration; `ticks` control ticks (1 ms) passed since the last one (more than one:
 // the loop overran, and the references advance by the time that passed)

@@ -114,7 +114,8 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
       rq.home = true;
       return ReplyStatus::ok;
     case MsgType::cmd_goto_pose:
-      if (!motion_allowed || !pose_valid(f.payload[0])) return ReplyStatus::refused;
+      // not from a closed limit switch: a move would not keep off it (the stick drives off it)
+      if (!motion_allowed || (st.switches & kSwitchesArmed) || !pose_valid(f.payload[0])) return ReplyStatus::refused;
       rq.goto_slot = (int8_t)f.payload[0];
       return ReplyStatus::ok;
     case MsgType::cmd_store_pose:

@@ -52,6 +52,23 @@ struct DriveSpeeds {
   fx::Real negative_rad_s[arm::kJoints];
 };
 
+// A limit switch closed while the arm runs (closed already when the switches were armed at a
+// re-arm: only a closing stops the arm, inputs.h): its joint's drive may not turn it further
+// that way, only back off it. closed: inputs.h's bits, 2j the low end's switch, 2j+1 the high
+// end's. Through the drives' speeds, the hand's motion stops where it needs that joint moving
+// into its switch (to a creep: rate_scale's common factor keeps the others' share).
+// The creep, not 0: J^-1's rounding leaves a joint the twist does not turn a few steps of
+// 2^-23 rad/s either way (up to ~70 in test_resolved_rate), and a drive of 0 would stop every
+// motion then. Pressed on into its switch for a minute, a joint creeps 6 mrad (J4's hard stop
+// is 52 mrad beyond its switch).
+constexpr fx::Real kCreepTowardsClosedSwitch_rad_s = fx::real(Ratio{1, 10000});
+__attribute__((cold)) inline void stop_towards_switches(DriveSpeeds& drives, uint16_t closed) {
+  for (uint8_t j = 0; j < arm::kJoints; ++j, closed = (uint16_t)(closed >> 2)) {
+    if (closed & 1) drives.negative_rad_s[j] = kCreepTowardsClosedSwitch_rad_s;
+    if (closed & 2) drives.positive_rad_s[j] = kCreepTowardsClosedSwitch_rad_s;
+  }
+}
+
 // steps 2 to 4: the common factor and why
 struct RateScale {
   fx::Unit scale;  // the common factor s to apply to J^-1 twist, in [0, 1]

@@ -196,6 +196,44 @@ TEST(ResolvedRate, SoftJointLimitStopsBeforeTheSwitch) {
   }
 }
 
+// A closed limit switch (bits 2j low, 2j+1 high): its joint's drive only creeps towards it, so
+// a twist that needs that joint moving that way stops (to the creep, all joints by one factor);
+// one that moves it away, or turns other joints only (J^-1's rounding leaves a few steps of
+// 2^-23 rad/s in the joints the twist does not turn: not slowed by them), goes at full speed.
+TEST(ResolvedRate, NoMotionTowardsAClosedSwitch) {
+  const ref::Joints q = {0.2, 0.6, 1.0, -0.4, 0.5, 0.3};
+  const auto qf = to_fixed(q);
+  const auto trig = kin::arm_trig<Fixed>(qf);
+  const Eigen::Vector3d p = ref::fk(q).block<3, 1>(0, 3);
+  // the hand turning with the base at 0.3 rad/s: joint 1 alone, up or down
+  const auto up = kin::twist_wrist<Fixed>(trig, twist(-0.3 * p.y(), 0.3 * p.x(), 0, 0, 0, 0.3));
+  const auto down = kin::twist_wrist<Fixed>(trig, twist(0.3 * p.y(), -0.3 * p.x(), 0, 0, 0, -0.3));
+  const double creep_rad_s = fx::to_double(core::kCreepTowardsClosedSwitch_rad_s);
+  for (int j = 0; j < 6; ++j) {
+    for (int high = 0; high < 2; ++high) {
+      SCOPED_TRACE("J" + std::to_string(j + 1) + (high ? "'s high switch" : "'s low switch"));
+      core::DriveSpeeds drives = core::drives_at_speed_limits(kLimits);
+      core::stop_towards_switches(drives, (uint16_t)(1u << (2 * j + high)));
+      for (int k = 0; k < 6; ++k) {
+        const int32_t limit = kLimits.joint[k].speed_rad_s.raw, creep = core::kCreepTowardsClosedSwitch_rad_s.raw;
+        EXPECT_EQ(drives.positive_rad_s[k].raw, k == j && high ? creep : limit) << "J" << k + 1;
+        EXPECT_EQ(drives.negative_rad_s[k].raw, k == j && !high ? creep : limit) << "J" << k + 1;
+      }
+      const auto towards = core::resolved_rate(qf, trig, high ? up : down, kLimits, &drives);
+      const auto away = core::resolved_rate(qf, trig, high ? down : up, kLimits, &drives);
+      if (j == 0) {
+        EXPECT_LE(std::abs(fx::to_double(towards.qd_rad_s[0])), creep_rad_s);
+        EXPECT_LT(fx::to_double(towards.scale), 2 * creep_rad_s / 0.3) << "the hand stops: every joint by one factor";
+        EXPECT_NE(towards.slowed_by & core::kSlowDriveLoad, 0);
+      } else {
+        EXPECT_EQ(towards.scale.raw, fx::kUnitOne);
+      }
+      EXPECT_EQ(away.scale.raw, fx::kUnitOne);
+      EXPECT_NEAR(fx::to_double(away.qd_rad_s[0]), high ? -0.3 : 0.3, 1e-3);
+    }
+  }
+}
+
 // Each mode's full stick, through the resolved rate and back through the Eigen Jacobian:
 // the hand moves along the mode's axis at the configured speed, and in the rotation modes
 // the frame-6 origin stays put while the wrist turns about the frame-5 axis. (Joint speed

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "config/control_config.h"
+#include "config/joints_config.h"
 #include "config/modes_config.h"
 #include "config/motion_config.h"
 #include "core/faults.h"
@@ -226,6 +227,76 @@ INSTANTIATE_TEST_SUITE_P(AcceptanceScenarios, S6,
                          [](const ::testing::TestParamInfo<LimitCase>& i) {
                            return "J" + std::to_string(i.param.joint + 1);
                          });
+
+// A limit switch still closed when the arm is re-armed: SPEC 6's "motion into the switch stops
+// at once" holds then too. J4's pot reads 10 deg low (a pot slipped on its shaft; here a
+// calibration shifted by command), so its soft stop lies past its switch: driven up, J4 closes
+// the switch (limit_unexpected), the person re-arms and pushes on the same way. The switch,
+// closed when it was armed again, must still stop J4 (driving back off it stays allowed).
+TEST(AcceptanceScenarios, SwitchClosedAtTheReArmStillStopsMotionIntoIt) {
+  constexpr int kJ4 = 3;
+  Running r;
+  ASSERT_TRUE(r.ok());
+  Rig& rig = r.rig;
+  uint8_t seq = 1;
+  const auto send = [&](protocol::MsgType type, std::vector<uint8_t> payload) {
+    rig.sim.send_serial(command(type, seq++, payload));
+    rig.run_to(rig.sim.time_s() + 0.05);
+  };
+  // J4's pot map 10 deg low: both ends' readings up by 10 deg of its span (drives off for it)
+  const int16_t config_min = (int16_t)(config::kPotAtMin_mV * 1024L * 16 / config::kAdcRef_mV);
+  const int16_t config_max = (int16_t)(config::kPotAtMax_mV * 1024L * 16 / config::kAdcRef_mV);
+  const int16_t shift = (int16_t)((config_max - config_min) * 10 / (arm::q_max_deg[kJ4] - arm::q_min_deg[kJ4]));
+  const int16_t at_min = (int16_t)(config_min + shift), at_max = (int16_t)(config_max + shift);
+  send(protocol::MsgType::cmd_stop, {});
+  send(protocol::MsgType::cmd_pot_calibration,
+       {(uint8_t)(kJ4 + 1), (uint8_t)at_min, (uint8_t)(at_min >> 8), (uint8_t)at_max, (uint8_t)(at_max >> 8)});
+  ASSERT_EQ(rig.telemetry.calibrations().size(), 1u) << "the calibration accepted";
+  send(protocol::MsgType::cmd_rearm, {});
+  ASSERT_GT(rig.run_until_state(core::ArmState::running, rig.sim.time_s() + 2.0), 0);
+  const double switch_rad = arm::q_max_rad(kJ4);
+  // up until the switch stops it
+  const double t_up = rig.sim.time_s();
+  while (rig.state() == core::ArmState::running && rig.sim.time_s() < t_up + 8.0)
+    stream_joint(rig, seq, kJ4, 0.4, rig.sim.time_s() + 0.1);
+  ASSERT_EQ(rig.state(), core::ArmState::fault);
+  ASSERT_TRUE(has_fault(rig.last(), core::kFaultBitLimitUnexpected));
+  rig.run_to(rig.sim.time_s() + 0.5);
+  const double q_hit = rig.sim.q()[kJ4];
+  ASSERT_TRUE(rig.sim.plant().limit_closed(kJ4, true)) << "J4 at " << q_hit / kDeg << " deg, on its switch";
+  // re-armed on the switch, pushed on the same way for 2 s
+  send(protocol::MsgType::cmd_rearm, {});
+  ASSERT_GT(rig.run_until_state(core::ArmState::running, rig.sim.time_s() + 2.0), 0);
+  r.watch.reset(rig.sim.q());
+  const size_t first_frame = rig.telemetry.states().size();
+  stream_joint(rig, seq, kJ4, 0.4, rig.sim.time_s() + 2.0);
+  const auto faults_since = [&](size_t first) {
+    uint16_t faults = 0;
+    for (size_t i = first; i < rig.telemetry.states().size(); ++i) faults |= rig.telemetry.states()[i].faults;
+    return faults;
+  };
+  const uint16_t faults_pushing = faults_since(first_frame);
+  const double q_pushed = r.watch.q_max[kJ4];
+  // and then let go for 3 s (what the drive does against the stop)
+  const size_t after_frame = rig.telemetry.states().size();
+  rig.run_to(rig.sim.time_s() + 3.0);
+  std::printf("switch closed at the re-arm: J4 stopped on its switch at %.2f deg (switch %.1f, hard stop %.1f), pushed on "
+              "after the re-arm to %.2f deg, faults then 0x%x; let go 3 s: faults 0x%x, state %s\n",
+              q_hit / kDeg, switch_rad / kDeg, switch_rad / kDeg + 3, q_pushed / kDeg, faults_pushing,
+              faults_since(after_frame), core::to_string(rig.state()));
+  EXPECT_LT(q_pushed, q_hit + 0.5 * kDeg) << "J4 driven on into its closed switch after the re-arm";
+  // a move to a pose from the switch is refused (it would not keep off it); driving back off it
+  // is not blocked
+  send(protocol::MsgType::cmd_goto_pose, {0});
+  EXPECT_EQ(rig.telemetry.replies().back().status, (uint8_t)protocol::ReplyStatus::refused);
+  const double q_before_back = rig.sim.q()[kJ4];
+  stream_joint(rig, seq, kJ4, -0.4, rig.sim.time_s() + 1.0);
+  const double back_rad = q_before_back - rig.sim.q()[kJ4];
+  std::printf("then driven back off the switch %.2f deg in 1 s\n", back_rad / kDeg);
+  EXPECT_GT(back_rad, 0.2);
+  EXPECT_EQ(rig.state(), core::ArmState::running);
+  EXPECT_FALSE(rig.sim.plant().limit_closed(kJ4, true));
+}
 
 // S8, joystick: unplugged (both axes fall to 0 V) while the stick was full +X in XY. The stick
 // must read neutral, so the arm stops as when the stick is let go: beside this run, a second one
