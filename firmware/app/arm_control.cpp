@@ -572,6 +572,7 @@ WMRA_COLD void enter(core::ArmState state) {
       inputs::arm_switches(kSwitchesArmedHoming);
       break;
     case core::ArmState::to_ready:
+      if (g_prev_state == core::ArmState::wait_neutral) drives_on();  // the move again after a stop
       begin_move(g_settings->pose_angle[0]);
       inputs::arm_switches(kSwitchesArmed);
       break;

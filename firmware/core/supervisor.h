@@ -8,7 +8,10 @@
 // Re-arming (a long press or the serial command) from stopped or fault goes back to
 // wait_neutral, so nothing moves until the stick has been seen neutral again; from there the
 // steppers are homed again unless `homed` still holds (the firmware drops it when a stepper
-// was turning as its driver went off: it coasted, and its step count is no longer its angle). A short press in running cycles the modes of config::kModeCycle.
+// was turning as its driver went off: it coasted, and its step count is no longer its angle),
+// and a move to the ready pose that a stop cut short is made again: the arm runs only from the
+// ready pose's side of the singular home (SPEC 5). A short press in running cycles the modes of
+// config::kModeCycle.
 // A home command forgets the homing and, from running, goes back through wait_neutral.
 // The stick must be neutral for kNeutralHold_ms before any motion is enabled; a stick that
 // is not valid (at a rail: unplugged or broken) counts as not neutral.
@@ -95,16 +98,22 @@ class Supervisor {
         state_ = ArmState::wait_neutral;
         break;
       case ArmState::wait_neutral:
-        if (neutral_ms_ >= kNeutralHold_ms) state_ = in.homed && homed_ ? ArmState::running : ArmState::homing;
+        if (neutral_ms_ >= kNeutralHold_ms) {
+          state_ = !(in.homed && homed_) ? ArmState::homing : reached_ready_ ? ArmState::running : ArmState::to_ready;
+        }
         break;
       case ArmState::homing:
         if (in.homed) {
           state_ = ArmState::to_ready;
           homed_ = true;
+          reached_ready_ = false;
         }
         break;
       case ArmState::to_ready:
-        if (in.at_ready) state_ = ArmState::running;
+        if (in.at_ready) {
+          state_ = ArmState::running;
+          reached_ready_ = true;
+        }
         break;
       case ArmState::running:
         if (in.home_command) {
@@ -131,6 +140,7 @@ class Supervisor {
   uint8_t mode_index_ = 0;
   uint16_t neutral_ms_ = 0;
   bool homed_ = true;  // false after a home command, until homing has finished again
+  bool reached_ready_ = false;  // the move to the ready pose after the last homing has arrived
 };
 
 }  // namespace core

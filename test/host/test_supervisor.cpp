@@ -105,6 +105,40 @@ TEST(Supervisor, FaultsLatchUntilClearedAndRearmed) {
   EXPECT_EQ(s.state(), ArmState::wait_neutral);
 }
 
+// A stop during the move to the ready pose (start-up, J5 still near its singular home): the
+// re-arm makes the move again, with the steppers' homing kept, before the stick drives. After
+// the ready pose was reached, a re-arm goes back to running.
+TEST(Supervisor, AMoveToTheReadyPoseCutShortIsMadeAgainAfterTheRearm) {
+  core::Supervisor s;
+  auto in = quiet();
+  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
+  in.homed = true;
+  run(s, in, 1);
+  ASSERT_EQ(s.state(), ArmState::to_ready);
+  in.stop_command = true;
+  run(s, in, 1);
+  ASSERT_EQ(s.state(), ArmState::stopped);
+  in.stop_command = false;
+  in.rearm_command = true;
+  run(s, in, 1);
+  in.rearm_command = false;
+  ASSERT_EQ(s.state(), ArmState::wait_neutral);
+  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
+  EXPECT_EQ(s.state(), ArmState::to_ready) << "not running from where the move was stopped";
+  EXPECT_FALSE(s.stick_enabled());
+  in.at_ready = true;
+  run(s, in, 1);
+  EXPECT_EQ(s.state(), ArmState::running);
+  in.stop_command = true;
+  run(s, in, 1);
+  in.stop_command = false;
+  in.rearm_command = true;
+  run(s, in, 1);
+  in.rearm_command = false;
+  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
+  EXPECT_EQ(s.state(), ArmState::running) << "the ready pose was reached: running again at once";
+}
+
 TEST(Supervisor, ShortPressCyclesTheModesOnlyWhileRunning) {
   core::Supervisor s;
   auto in = quiet();

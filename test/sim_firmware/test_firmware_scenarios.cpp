@@ -53,6 +53,52 @@ TEST(FirmwareStartUp, HomesAndReachesTheReadyPose) {
   EXPECT_TRUE(rig.sim.measurements().sim_faults.empty());
 }
 
+// The safety button in the first milliseconds of the move to the ready pose (J5 just off its
+// singular home, the steppers slow enough to keep their counts): the re-arm makes the move
+// again, homing kept, and the arm runs from the ready pose, not from where the move stopped.
+// The move's first step is found in a first run (the state frames come every 20 ms): J5, at
+// rest after its homing, steps again.
+TEST(FirmwareStartUp, AMoveToTheReadyPoseCutShortIsMadeAgainAfterTheRearm) {
+  double t_reported = 0;
+  {
+    Rig first(kFirmware);
+    t_reported = first.run_until_state(core::ArmState::to_ready, 12.0);
+    ASSERT_GT(t_reported, 0);
+  }
+  Rig rig(kFirmware);
+  rig.run_to(t_reported - 0.05);
+  const int64_t j5_at_rest = rig.sim.measurements().steps[1].commanded;
+  double t_press = -1;
+  while (t_press < 0 && rig.sim.time_s() < t_reported) {
+    rig.run_to(rig.sim.time_s() + 0.0005);
+    if (rig.sim.measurements().steps[1].commanded != j5_at_rest) t_press = rig.sim.time_s();
+  }
+  ASSERT_GT(t_press, t_reported - 0.045) << "J5 at rest before the move";
+  rig.sim.set_estop(true);
+  rig.run_to(t_press + 0.3);
+  ASSERT_EQ(rig.state(), core::ArmState::stopped);
+  const double q5_stopped_deg = rig.sim.q()[4] * 180 / M_PI;
+  rig.sim.set_estop(false);
+  rig.run_to(rig.sim.time_s() + 0.1);
+  const size_t first = rig.telemetry.states().size();
+  rig.sim.send_serial(command(protocol::MsgType::cmd_rearm, 1));
+  ASSERT_GT(rig.run_until_state(core::ArmState::running, rig.sim.time_s() + 12.0), 0);
+  bool homing = false, to_ready = false;
+  for (size_t i = first; i < rig.telemetry.states().size(); ++i) {
+    homing |= rig.telemetry.states()[i].state == (uint8_t)core::ArmState::homing;
+    to_ready |= rig.telemetry.states()[i].state == (uint8_t)core::ArmState::to_ready;
+  }
+  std::printf("the safety button at J5's first step of the move (%.1f ms before to_ready was reported), J5 stopped at %.2f "
+              "deg; after the re-arm: homing %d, to_ready %d\n",
+              (t_reported - t_press) * 1e3, q5_stopped_deg, homing, to_ready);
+  EXPECT_FALSE(homing) << "the steppers kept their counts";
+  EXPECT_TRUE(to_ready) << "the move to the ready pose made again";
+  rig.run_to(rig.sim.time_s() + 0.3);
+  const double ready_deg[6] = {70, 20, -70, 50, -30, 0};
+  for (int j = 0; j < 6; ++j) EXPECT_NEAR(rig.sim.q()[j] * 180 / M_PI, ready_deg[j], 1.5) << "joint " << j + 1;
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(rig.sim.measurements().steps[k].lost, 0);
+}
+
 // S5: the safety button turns every output off from its interrupt (well within 1 ms), and nothing is driven (no step,
 // no PWM) until it is released and the arm re-armed. (A joint moving at the press coasts:
 // the drivers are off, as SPEC 6 asks. So the steppers, which were turning, no longer are where
