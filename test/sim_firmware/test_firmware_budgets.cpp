@@ -202,15 +202,16 @@ constexpr uint64_t kIterationTarget_cycles = 8000;
 // count (pass19): 7,566 and 9,510 with it, 1,051 over; the DC servo's common run in asm
 // (dcasm19): 7,155 and 9,480, the alternate iterations 6,765 / 7,544, CPU 51.4 %, 358 over.
 // Session 20 (the bridges' latch, the stick checks at a rail and its stored centre): 7,163 and
-// 9,465, 6,785 / 7,540, CPU 51.5 %, 359 of 2,999 over.
+// 9,465, 6,785 / 7,540, CPU 51.5 %, 359 of 2,999 over. Session 21 (no drive towards a closed
+// switch, with the governor; flash): 7,185 and 9,465, 6,829 / 7,541, CPU 51.6 %, 358 of 3,000.
 // SPEC 8: the whole CPU load at most 60 % at 1 kHz, here while the stick drives in XY, XZ and R1
 // (R1 steps J5 and J6 fast): the iterations, the step, ADC and serial ISRs, the state frames.
 constexpr double kCpuLoadTarget = 0.60;
-constexpr double kIterationMeanBudget_cycles = kIterationTarget_cycles;  // [7,163]
+constexpr double kIterationMeanBudget_cycles = kIterationTarget_cycles;  // [7,185]
 constexpr uint64_t kIterationMaxBudget_cycles = 10430;                   // [9,465]
 // SPEC 8 wants none over 8,000; until then the count may not grow (it moves with the loop's
 // timing: + 20 %)
-constexpr uint64_t kIterationsOverTargetBudget = 430;  // [359 of 2,999]
+constexpr uint64_t kIterationsOverTargetBudget = 430;  // [358 of 3,000]
 
 // The stick deflected in XY, XZ and R1 after start-up; every iteration that ends while the
 // stick is deflected counts. The simulator keeps D49's running sums, so each iteration is read
