@@ -152,4 +152,36 @@ TEST(Supervisor, ShortPressCyclesTheModesOnlyWhileRunning) {
   }
 }
 
+// A home command during the move to the ready pose (replied ok) homes then, as from running:
+// it was kept as a flag only, the move went on into running, and the next re-arm, after any
+// later stop, homed the steppers (J1 swung to its +90 deg switch) where the person expected
+// the arm to stay (review22; scenarios/review22-home-in-to-ready.txt).
+TEST(Supervisor, AHomeCommandDuringTheMoveToTheReadyPoseHomesThen) {
+  core::Supervisor s;
+  auto in = quiet();
+  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
+  in.homed = true;
+  run(s, in, 1);
+  ASSERT_EQ(s.state(), ArmState::to_ready);
+  in.home_command = true;
+  run(s, in, 1);
+  in.home_command = false;
+  EXPECT_EQ(s.state(), ArmState::wait_neutral) << "the move ends; homing follows the neutral hold";
+  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
+  EXPECT_EQ(s.state(), ArmState::homing);
+  // homed again, at the ready pose, running: a stop and a re-arm no longer home
+  run(s, in, 1);
+  in.at_ready = true;
+  run(s, in, 1);
+  ASSERT_EQ(s.state(), ArmState::running);
+  in.stop_command = true;
+  run(s, in, 1);
+  in.stop_command = false;
+  in.rearm_command = true;
+  run(s, in, 1);
+  in.rearm_command = false;
+  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
+  EXPECT_EQ(s.state(), ArmState::running) << "no stale home request";
+}
+
 }  // namespace
