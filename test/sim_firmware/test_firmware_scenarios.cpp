@@ -588,4 +588,38 @@ TEST(FirmwareSafety, AStreamThatStopsArrivingStopsTheArm) {
   EXPECT_EQ(rig.state(), core::ArmState::running);
 }
 
+// A person's deflected stick takes a streamed velocity over, as it takes over a move to a pose
+// (SPEC 6's "a stick the person can take them over with"): on main the stream won and the stick
+// was ignored (review22: the hand went +x at the stream's 100 mm/s with the stick held at -x).
+// Released, the stream drives again while it is fresh.
+TEST(FirmwareSafety, ADeflectedStickTakesAStreamOver) {
+  Rig rig(kFirmware);
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0);
+  rig.sim.set_joystick(-0.8, 0.0);  // XY: the hand towards -x
+  rig.run_to(t_running + 0.5);
+  const armsim::TrajectoryRow held = rig.pose();
+  protocol::VelocityCmd v{};
+  v.v_mm_s[0] = 100;  // the host: +x
+  for (int k = 0; k < 25; ++k) {
+    rig.run_to(t_running + 0.5 + 0.04 * k);
+    rig.sim.send_serial(test::message(v, (uint8_t)(1 + k)));
+  }
+  rig.run_to(t_running + 1.5);
+  const armsim::TrajectoryRow streamed = rig.pose();
+  ASSERT_EQ(rig.telemetry.replies().size(), 25u);
+  EXPECT_LT(streamed.p[0], held.p[0] - 0.05) << "the stick still drives the hand -x (m), the stream does not";
+  // released: the stream (still fresh) drives +x
+  rig.sim.set_joystick(0.0, 0.0);
+  for (int k = 0; k < 30; ++k) {
+    rig.run_to(t_running + 1.5 + 0.04 * k);
+    rig.sim.send_serial(test::message(v, (uint8_t)(26 + k)));
+  }
+  rig.run_to(t_running + 2.7);
+  std::printf("stick held -x: hand x %.1f -> %.1f mm with the stream +x; released: %.1f mm\n", held.p[0] * 1000,
+              streamed.p[0] * 1000, rig.pose().p[0] * 1000);
+  // (the stick's fall, then the stream's ramp: +x at ~100 mm/s from ~0.4 s after the release)
+  EXPECT_GT(rig.pose().p[0], streamed.p[0] + 0.03) << "the stream drives once the stick is released";
+}
+
 }  // namespace
