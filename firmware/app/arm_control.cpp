@@ -408,7 +408,8 @@ fx::Unit tracking_factor() {
 core::DriveSpeeds g_drives = {{kLimits.joint[0].speed_rad_s, kLimits.joint[1].speed_rad_s, kLimits.joint[2].speed_rad_s,
                                kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s},
                               {kLimits.joint[0].speed_rad_s, kLimits.joint[1].speed_rad_s, kLimits.joint[2].speed_rad_s,
-                               kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s}};
+                               kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s},
+                              0};
 
 // The steppers' drives at their speed limits, and no drive towards a switch that is closed
 // (the DC joints' speeds are the governor's, set just before or at its last run)
@@ -505,7 +506,8 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
 
   kin::JacobianInverse<Fixed> inv = kin::inverse_jacobian_wrist<Fixed>(trig, twist);
   const core::RateScale rates = core::rate_scale(q, trig, inv, kLimits, g_drives);
-  g_status.slowed_by = (uint8_t)(rates.slowed_by | (tracking.raw < fx::kUnitOne ? core::kSlowTracking : 0));
+  const uint8_t slowed_by = g_drives.closed_switches ? core::named_switch_stop(rates.slowed_by, inv, g_drives.closed_switches) : rates.slowed_by;
+  g_status.slowed_by = (uint8_t)(slowed_by | (tracking.raw < fx::kUnitOne ? core::kSlowTracking : 0));
   fx::Real max_change[6];  // a pass's is the table (32-bit products otherwise)
   if (ticks != kMotionPeriod_ticks) {
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
@@ -1010,10 +1012,12 @@ WMRA_COLD const Status& status() {
   for (uint8_t j = 0; j < 6; ++j) g_status.qd_rad_s[j] = g_qd[j];
   // the drift correction's while the stick drives; in the other states and the moves to a pose
   // (light iterations) the references' FK here
-  if (tick::now_ms() - g_p_hand_ms < kHandPositionAge_ms) {
+  const uint32_t now_ms = tick::now_ms();
+  if (now_ms - g_p_hand_ms < kHandPositionAge_ms) {
     g_status.p_m = g_p_hand;
   } else {
     g_status.p_m = kin::hand_position<Fixed>(kin::jacobian_trig<Fixed>(g_q.q));
+    g_p_hand_ms = now_ms - kHandPositionAge_ms;  // kept old: 2^32 ms on (49.7 days) it would read as fresh
   }
   return g_status;
 }

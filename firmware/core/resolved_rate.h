@@ -40,6 +40,7 @@ enum SlowReason : uint8_t {
   kSlowJointSpeed = 4,
   kSlowDriveLoad = 8,
   kSlowTracking = 16,  // set by the caller: a DC joint lags its reference, the whole motion slows
+  kSlowLimitSwitch = 32,  // a joint would move into its closed limit switch (stop_towards_switches)
 };
 
 // The fastest each joint's drive can turn it now, each way (rad/s): a DC joint that lifts its
@@ -50,6 +51,7 @@ enum SlowReason : uint8_t {
 struct DriveSpeeds {
   fx::Real positive_rad_s[arm::kJoints];
   fx::Real negative_rad_s[arm::kJoints];
+  uint16_t closed_switches;  // stop_towards_switches' (inputs.h's bits): which drives are a switch's creep
 };
 
 // A limit switch closed while the arm runs (closed already when the switches were armed at a
@@ -63,6 +65,7 @@ struct DriveSpeeds {
 // is 52 mrad beyond its switch).
 constexpr fx::Real kCreepTowardsClosedSwitch_rad_s = fx::real(Ratio{1, 10000});
 __attribute__((cold)) inline void stop_towards_switches(DriveSpeeds& drives, uint16_t closed) {
+  drives.closed_switches = closed;
   for (uint8_t j = 0; j < arm::kJoints; ++j, closed = (uint16_t)(closed >> 2)) {
     if (closed & 1) drives.negative_rad_s[j] = kCreepTowardsClosedSwitch_rad_s;
     if (closed & 2) drives.positive_rad_s[j] = kCreepTowardsClosedSwitch_rad_s;
@@ -282,7 +285,7 @@ RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin:
     const fx::Real drive = qd[j].raw >= 0 ? drives.positive_rad_s[j] : drives.negative_rad_s[j];
     if (drive < allowed) {
       allowed = drive;
-      reason = kSlowDriveLoad;
+      reason = kSlowDriveLoad;  // (or a closed switch's creep: named_switch_stop)
     }
     const fx::Unit before = s;
     s = limit_scale(s, qd[j], allowed);
@@ -293,10 +296,25 @@ RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin:
   return out;
 }
 
+// rate_scale counts a closed switch's creep as a drive's speed (kSlowDriveLoad). A joint whose
+// J^-1 speed runs into its closed switch faster than the creep is the one that binds (the
+// factor falls to the creep's share): the switch is named instead. Out of rate_scale's joint
+// loop (it cost that loop ~70 cycles a pass): called only while a switch is closed.
+__attribute__((cold, noinline)) inline uint8_t named_switch_stop(uint8_t slowed_by, const kin::JacobianInverse<Fixed>& inv, uint16_t closed) {
+  for (uint8_t j = 0; j < arm::kJoints; ++j, closed = (uint16_t)(closed >> 2)) {
+    const int32_t qd = inv.qd_rad_s[j].raw;
+    if (((closed & 2) && qd > kCreepTowardsClosedSwitch_rad_s.raw) || ((closed & 1) && -qd > kCreepTowardsClosedSwitch_rad_s.raw)) {
+      return (uint8_t)((slowed_by & ~kSlowDriveLoad) | kSlowLimitSwitch);
+    }
+  }
+  return slowed_by;
+}
+
 // drives at the joints' speed limits: they never slow a joint (allowed is at most the limit)
 inline DriveSpeeds drives_at_speed_limits(const MotionLimits& limits) {
   DriveSpeeds d;
   for (uint8_t j = 0; j < arm::kJoints; ++j) d.positive_rad_s[j] = d.negative_rad_s[j] = limits.joint[j].speed_rad_s;
+  d.closed_switches = 0;
   return d;
 }
 
@@ -307,10 +325,10 @@ JointRates resolved_rate(const kin::JointAngles<Fixed>& q, const Trig& t, const 
   const auto inv = kin::inverse_jacobian_wrist<Fixed>(t, twist);
   const RateScale r = rate_scale(q, t, inv, limits, drives ? *drives : drives_at_speed_limits(limits));
   JointRates out;
+  out.slowed_by = drives && drives->closed_switches ? named_switch_stop(r.slowed_by, inv, drives->closed_switches) : r.slowed_by;
   for (uint8_t j = 0; j < arm::kJoints; ++j) out.qd_rad_s[j] = scaled(r.scale, inv.qd_rad_s[j]);
   out.scale = r.scale;
   out.status = r.status;
-  out.slowed_by = r.slowed_by;
   return out;
 }
 

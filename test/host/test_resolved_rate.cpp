@@ -224,7 +224,7 @@ TEST(ResolvedRate, NoMotionTowardsAClosedSwitch) {
       if (j == 0) {
         EXPECT_LE(std::abs(fx::to_double(towards.qd_rad_s[0])), creep_rad_s);
         EXPECT_LT(fx::to_double(towards.scale), 2 * creep_rad_s / 0.3) << "the hand stops: every joint by one factor";
-        EXPECT_NE(towards.slowed_by & core::kSlowDriveLoad, 0);
+        EXPECT_EQ(towards.slowed_by & (core::kSlowLimitSwitch | core::kSlowDriveLoad), core::kSlowLimitSwitch);
       } else {
         EXPECT_EQ(towards.scale.raw, fx::kUnitOne);
       }
@@ -232,6 +232,13 @@ TEST(ResolvedRate, NoMotionTowardsAClosedSwitch) {
       EXPECT_NEAR(fx::to_double(away.qd_rad_s[0]), high ? -0.3 : 0.3, 1e-3);
     }
   }
+  // a drive slowed by its load, not a switch, says so: J1's drive at a tenth of the turn's speed
+  core::DriveSpeeds drives = core::drives_at_speed_limits(kLimits);
+  drives.positive_rad_s[0] = drives.negative_rad_s[0] = fx::real(Ratio{3, 100});
+  core::stop_towards_switches(drives, (uint16_t)(1u << 0 | 1u << 3));  // J1's low switch, J2's high one
+  const auto slowed = core::resolved_rate(qf, trig, up, kLimits, &drives);
+  EXPECT_NEAR(fx::to_double(slowed.scale), 0.1, 1e-3);
+  EXPECT_EQ(slowed.slowed_by & (core::kSlowLimitSwitch | core::kSlowDriveLoad), core::kSlowDriveLoad);
 }
 
 // Each mode's full stick, through the resolved rate and back through the Eigen Jacobian:

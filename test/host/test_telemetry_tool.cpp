@@ -102,6 +102,14 @@ TEST(TelemetryJson, StateFrame) {
   EXPECT_NE(unknown.find("\"state\":\"unknown_9\",\"mode\":\"unknown_7\""), std::string::npos) << unknown;
 }
 
+// every bit the firmware sets has its name (a count passed beside the table once left the last out)
+TEST(TelemetryJson, EverySlowReasonHasItsName) {
+  EXPECT_EQ(telemetry::slow_reason_names(core::kSlowTracking), std::vector<std::string>{"tracking"});
+  EXPECT_EQ(telemetry::slow_reason_names(core::kSlowLimitSwitch | core::kSlowDriveLoad), (std::vector<std::string>{"drive_load", "limit_switch"}));
+  EXPECT_EQ(telemetry::slow_reason_names(1 << 6), std::vector<std::string>{"bit_6"});
+  EXPECT_EQ(telemetry::switch_names(1 << 10 | 1 << 11), (std::vector<std::string>{"j6_zero", "bit_11"}));
+}
+
 TEST(TelemetryJson, ReplyBootAndCommands) {
   EXPECT_EQ(to_json(parse_one(message_bytes(ReplyMsg{(uint8_t)MsgType::cmd_mode, 3, 0}, 40))),
             "{\"type\":\"reply\",\"seq\":40,\"command\":\"mode\",\"command_seq\":3,\"status\":\"ok\"}");

@@ -276,6 +276,8 @@ TEST(AcceptanceScenarios, SwitchClosedAtTheReArmStillStopsMotionIntoIt) {
     return faults;
   };
   const uint16_t faults_pushing = faults_since(first_frame);
+  uint8_t slowed_pushing = 0;
+  for (size_t i = first_frame; i < rig.telemetry.states().size(); ++i) slowed_pushing |= rig.telemetry.states()[i].slowed_by;
   const double q_pushed = r.watch.q_max[kJ4];
   // and then let go for 3 s (what the drive does against the stop)
   const size_t after_frame = rig.telemetry.states().size();
@@ -285,6 +287,7 @@ TEST(AcceptanceScenarios, SwitchClosedAtTheReArmStillStopsMotionIntoIt) {
               q_hit / kDeg, switch_rad / kDeg, switch_rad / kDeg + 3, q_pushed / kDeg, faults_pushing,
               faults_since(after_frame), core::to_string(rig.state()));
   EXPECT_LT(q_pushed, q_hit + 0.5 * kDeg) << "J4 driven on into its closed switch after the re-arm";
+  EXPECT_NE(slowed_pushing & core::kSlowLimitSwitch, 0) << "the report says why the motion stopped";
   // a move to a pose from the switch is refused (it would not keep off it); driving back off it
   // is not blocked
   send(protocol::MsgType::cmd_goto_pose, {0});

@@ -21,9 +21,9 @@ constexpr const char* kStatusNames[] = {"ok", "unknown_command", "bad_length", "
 static_assert((uint8_t)protocol::ReplyStatus::refused == 4, "a name for every ReplyStatus");
 // MCUSR bits 0..4, and bit 7: the firmware inferred the cause (lib/drivers/watchdog.h)
 constexpr const char* kResetCauseNames[] = {"power_on", "external", "brown_out", "watchdog", "jtag", "", "", "inferred"};
-constexpr const char* kSlowReasonNames[] = {"singular", "soft_limit", "joint_speed", "drive_load", "tracking"};
+constexpr const char* kSlowReasonNames[] = {"singular", "soft_limit", "joint_speed", "drive_load", "tracking", "limit_switch"};
 static_assert(core::kSlowSingular == 1 && core::kSlowSoftLimit == 2 && core::kSlowJointSpeed == 4 && core::kSlowDriveLoad == 8 &&
-                  core::kSlowTracking == 16,
+                  core::kSlowTracking == 16 && core::kSlowLimitSwitch == 32,
               "kSlowReasonNames[bit]");
 constexpr const char* kSwitchNames[] = {"j1_low", "j1_high", "j2_low", "j2_high", "j3_low", "j3_high",
                                         "j4_low", "j4_high", "j5_low", "j5_high", "j6_zero"};
@@ -33,11 +33,13 @@ std::string code_name(uint8_t v, const char* const (&names)[N]) {
   return v < N ? names[v] : "unknown_" + std::to_string(v);
 }
 
-std::vector<std::string> bit_names(uint32_t bits, const char* const* names, size_t count) {
+// the count from the table itself: a count passed beside it once left the last name out
+template <size_t N>
+std::vector<std::string> bit_names(uint32_t bits, const char* const (&names)[N]) {
   std::vector<std::string> out;
   for (uint8_t b = 0; b < 32; ++b) {
     if (!(bits >> b & 1u)) continue;
-    out.push_back(b < count && names[b][0] ? names[b] : "bit_" + std::to_string(b));
+    out.push_back(b < N && names[b][0] ? names[b] : "bit_" + std::to_string(b));
   }
   return out;
 }
@@ -152,10 +154,10 @@ std::string state_name(uint8_t state) {
 std::string mode_name(uint8_t mode) { return code_name(mode, kModeNames); }
 std::string calibration_name(uint8_t calibration) { return code_name(calibration, kCalibrationNames); }
 std::string status_name(uint8_t status) { return code_name(status, kStatusNames); }
-std::vector<std::string> fault_names(uint32_t faults) { return bit_names(faults, core::kFaultNames, 32); }
-std::vector<std::string> reset_cause_names(uint8_t mcusr) { return bit_names(mcusr, kResetCauseNames, 8); }
-std::vector<std::string> slow_reason_names(uint8_t slowed_by) { return bit_names(slowed_by, kSlowReasonNames, 4); }
-std::vector<std::string> switch_names(uint16_t switches) { return bit_names(switches, kSwitchNames, 11); }
+std::vector<std::string> fault_names(uint32_t faults) { return bit_names(faults, core::kFaultNames); }
+std::vector<std::string> reset_cause_names(uint8_t mcusr) { return bit_names(mcusr, kResetCauseNames); }
+std::vector<std::string> slow_reason_names(uint8_t slowed_by) { return bit_names(slowed_by, kSlowReasonNames); }
+std::vector<std::string> switch_names(uint16_t switches) { return bit_names(switches, kSwitchNames); }
 
 const char* type_name(uint8_t type) {
   switch ((MsgType)type) {
