@@ -938,8 +938,14 @@ void iterate(Requests& rq, uint8_t ticks) {
       break;
     case core::ArmState::running: {
       // A stick at a rail (unplugged, broken) moves nothing (SPEC 6), whatever else commands: a
-      // move or a streamed velocity would go on where the person could not take it over.
-      if (!stick_valid) rq.velocity_fresh = false;
+      // move or a streamed velocity would go on where the person could not take it over. A
+      // deflected stick takes a stream over, as it does a move: the stream ends (the link
+      // refuses it until it has stopped arriving), it does not drive again when the stick is
+      // let go.
+      if (!stick_valid || !stick_neutral) {
+        rq.stream_taken_over = rq.velocity_fresh;
+        rq.velocity_fresh = false;
+      }
       int8_t pose_slot = rq.goto_slot;
       if (long_press && kLongPressWhileRunning == LongPress::go_to_stored_pose_0) pose_slot = 0;
       if (pose_slot >= 0 && stick_valid && (g_settings->pose_valid & (1 << pose_slot))) {

@@ -32,6 +32,7 @@ struct Requests {
   bool stop, rearm, home;
   int8_t goto_slot;  // -1: none
   bool velocity_fresh;
+  bool stream_taken_over;  // set by the iteration: a deflected stick took the stream over (link.cpp)
   int16_t v_mm_s[3];
   int16_t w_mrad_s[3];
 };

@@ -23,6 +23,7 @@ uint8_t g_reset_cause;
 uint16_t g_rejected;
 uint32_t g_next_state_ms;  // the next state frame is due at this tick::now_ms()
 uint16_t g_velocity_age_ms = 0xFFFF;
+bool g_stream_taken_over;  // by the stick: velocity commands refused until none came for the timeout
 uint16_t g_loop_cycles_max;
 bool g_send_calibration;  // a calibration frame follows the command's reply (on a later tick if the buffer is full)
 
@@ -111,6 +112,9 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
       set_speed_scale(f.payload[0]);
       return ReplyStatus::ok;
     case MsgType::cmd_home:
+      // the move to the ready pose follows a homing: cutting its drives at speed to home again
+      // would let J1 coast (~10 deg, a stop's), and the supervisor ignores it there
+      if (state == core::ArmState::to_ready) return ReplyStatus::refused;
       rq.home = true;
       return ReplyStatus::ok;
     case MsgType::cmd_goto_pose:
@@ -124,11 +128,12 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
       if (!motion_allowed) return ReplyStatus::refused;
       protocol::VelocityCmd v;
       if (!protocol::decode(f, v)) return ReplyStatus::bad_length;
+      g_velocity_age_ms = 0;  // (a stream taken over is still arriving: it stays refused)
+      if (g_stream_taken_over) return ReplyStatus::refused;
       for (uint8_t i = 0; i < 3; ++i) {
         rq.v_mm_s[i] = v.v_mm_s[i];
         rq.w_mrad_s[i] = v.w_mrad_s[i];
       }
-      g_velocity_age_ms = 0;
       return ReplyStatus::ok;
     }
     case MsgType::cmd_pot_calibration: {
@@ -206,7 +211,10 @@ void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   if (uart::received()) receive(rq);
   if (g_send_calibration) send_calibration();
   if (g_velocity_age_ms < 0xFF00) g_velocity_age_ms = (uint16_t)(g_velocity_age_ms + ticks);
-  rq.velocity_fresh = g_velocity_age_ms < protocol::kVelocityTimeout_ms;
+  const bool arriving = g_velocity_age_ms < protocol::kVelocityTimeout_ms;
+  g_stream_taken_over = (g_stream_taken_over | rq.stream_taken_over) & arriving;
+  rq.stream_taken_over = false;
+  rq.velocity_fresh = arriving & !g_stream_taken_over;
   // one frame per period, after the first iteration at or past its start (every 20 ms from
   // boot, so the frames keep their phase whatever the iterations' lengths): the state of the
   // iteration just run, one tick's; a period missed whole is skipped, not sent twice

@@ -40,7 +40,7 @@ int main() {
   app::link::start(watchdog::reset_cause(), (uint8_t)loaded);
   sei();
 
-  static app::Requests requests{false, false, false, -1, false, {0, 0, 0}, {0, 0, 0}};
+  static app::Requests requests{false, false, false, -1, false, false, {0, 0, 0}, {0, 0, 0}};
   for (;;) {
     const uint8_t ticks = tick::wait();
     const uint16_t begin = TCNT1;

@@ -82,7 +82,9 @@ class Supervisor {
 
   // one control tick of dt_ms milliseconds
   void update(const SupervisorInputs& in, uint16_t dt_ms) {
-    if (in.home_command) homed_ = false;
+    // (not during the move to the ready pose, just homed, which the link refuses it in: kept
+    // as a flag, it homed the arm at some later re-arm, where the person expected it to stay)
+    if (in.home_command && state_ != ArmState::to_ready) homed_ = false;
     if (in.safety_pressed || in.stop_command) {
       state_ = ArmState::stopped;
       return;

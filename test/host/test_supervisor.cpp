@@ -21,12 +21,29 @@ void run(core::Supervisor& s, const core::SupervisorInputs& in, int ms) {
   for (int i = 0; i < ms; ++i) s.update(in, 1);
 }
 
-core::Supervisor running_arm() {
+// a stop command, a re-arm and the stick's neutral hold (in as given otherwise)
+void stop_rearm_and_hold(core::Supervisor& s, core::SupervisorInputs in) {
+  in.stop_command = true;
+  run(s, in, 1);
+  in.stop_command = false;
+  in.rearm_command = true;
+  run(s, in, 1);
+  in.rearm_command = false;
+  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
+}
+
+// from power-up through the neutral hold and the homing (in.homed set) to the move to the ready pose
+core::Supervisor moving_to_ready(core::SupervisorInputs& in) {
   core::Supervisor s;
-  auto in = quiet();
   run(s, in, core::Supervisor::kNeutralHold_ms + 1);
   in.homed = true;
   run(s, in, 1);
+  return s;
+}
+
+core::Supervisor running_arm() {
+  auto in = quiet();
+  core::Supervisor s = moving_to_ready(in);
   in.at_ready = true;
   run(s, in, 1);
   return s;
@@ -109,11 +126,8 @@ TEST(Supervisor, FaultsLatchUntilClearedAndRearmed) {
 // re-arm makes the move again, with the steppers' homing kept, before the stick drives. After
 // the ready pose was reached, a re-arm goes back to running.
 TEST(Supervisor, AMoveToTheReadyPoseCutShortIsMadeAgainAfterTheRearm) {
-  core::Supervisor s;
   auto in = quiet();
-  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
-  in.homed = true;
-  run(s, in, 1);
+  core::Supervisor s = moving_to_ready(in);
   ASSERT_EQ(s.state(), ArmState::to_ready);
   in.stop_command = true;
   run(s, in, 1);
@@ -129,13 +143,7 @@ TEST(Supervisor, AMoveToTheReadyPoseCutShortIsMadeAgainAfterTheRearm) {
   in.at_ready = true;
   run(s, in, 1);
   EXPECT_EQ(s.state(), ArmState::running);
-  in.stop_command = true;
-  run(s, in, 1);
-  in.stop_command = false;
-  in.rearm_command = true;
-  run(s, in, 1);
-  in.rearm_command = false;
-  run(s, in, core::Supervisor::kNeutralHold_ms + 1);
+  stop_rearm_and_hold(s, in);
   EXPECT_EQ(s.state(), ArmState::running) << "the ready pose was reached: running again at once";
 }
 
@@ -150,6 +158,31 @@ TEST(Supervisor, ShortPressCyclesTheModesOnlyWhileRunning) {
     run(s, in, 1);
     EXPECT_EQ(s.mode(), config::kModeCycle[k % config::kModeCount]);
   }
+}
+
+// A home command during the move to the ready pose (the link refuses it there, just homed) is
+// ignored: on main it was kept as a flag, the move went on into running, and the next re-arm,
+// after any later stop, homed the steppers (J1 swung to its +90 deg switch) where the person
+// expected the arm to stay (review22; scenarios/review22-home-in-to-ready.txt).
+TEST(Supervisor, AHomeCommandDuringTheMoveToTheReadyPoseLeavesNoStaleRequest) {
+  auto in = quiet();
+  core::Supervisor s = moving_to_ready(in);
+  ASSERT_EQ(s.state(), ArmState::to_ready);
+  in.home_command = true;
+  run(s, in, 1);
+  in.home_command = false;
+  in.at_ready = true;
+  run(s, in, 1);
+  ASSERT_EQ(s.state(), ArmState::running);
+  stop_rearm_and_hold(s, in);
+  EXPECT_EQ(s.state(), ArmState::running) << "no homing from a stale home request";
+  // from running a home command homes, as before
+  in.home_command = true;
+  run(s, in, 1);
+  in.home_command = false;
+  EXPECT_EQ(s.state(), ArmState::wait_neutral);
+  run(s, in, core::Supervisor::kNeutralHold_ms);
+  EXPECT_EQ(s.state(), ArmState::homing);
 }
 
 }  // namespace

@@ -588,4 +588,56 @@ TEST(FirmwareSafety, AStreamThatStopsArrivingStopsTheArm) {
   EXPECT_EQ(rig.state(), core::ArmState::running);
 }
 
+// A person's deflected stick takes a streamed velocity over, as it takes over a move to a pose
+// (SPEC 6's "a stick the person can take them over with"): once the image let the stream win and
+// the stick was ignored (review22: the hand went +x at the stream's 100 mm/s with the stick held
+// at -x). Taken over, the stream ends: let go of the stick, the hand stays while the host goes on
+// streaming (its commands refused), and a stream drives again only after a pause of the timeout.
+TEST(FirmwareSafety, ADeflectedStickTakesAStreamOver) {
+  Rig rig(kFirmware);
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0);
+  uint8_t seq = 1;
+  protocol::VelocityCmd v{};
+  v.v_mm_s[0] = 100;  // the host: +x
+  const auto stream = [&](double from_s, double to_s) {
+    for (double t = from_s; t < to_s; t += 0.04) {
+      rig.run_to(t);
+      rig.sim.send_serial(test::message(v, seq++));
+    }
+    rig.run_to(to_s);
+  };
+  const auto refused_since = [&](size_t first) {
+    size_t n = 0;
+    for (size_t i = first; i < rig.telemetry.replies().size(); ++i)
+      n += rig.telemetry.replies()[i].status == (uint8_t)protocol::ReplyStatus::refused;
+    return n;
+  };
+  rig.sim.set_joystick(-0.8, 0.0);  // XY: the hand towards -x
+  rig.run_to(t_running + 0.5);
+  const armsim::TrajectoryRow held = rig.pose();
+  stream(t_running + 0.5, t_running + 1.5);
+  const armsim::TrajectoryRow streamed = rig.pose();
+  EXPECT_LT(streamed.p[0], held.p[0] - 0.05) << "the stick still drives the hand -x (m), the stream does not";
+  // let go while the host streams on: the hand comes to rest and stays
+  rig.sim.set_joystick(0.0, 0.0);
+  const size_t replies_let_go = rig.telemetry.replies().size();
+  stream(t_running + 1.5, t_running + 2.2);
+  const armsim::TrajectoryRow rest = rig.pose();
+  stream(t_running + 2.2, t_running + 3.2);
+  const armsim::TrajectoryRow after = rig.pose();
+  const size_t refused = refused_since(replies_let_go);
+  // a pause of more than the timeout, then a new stream drives
+  rig.run_to(t_running + 3.4);
+  const size_t replies_new = rig.telemetry.replies().size();
+  stream(t_running + 3.4, t_running + 4.4);
+  std::printf("stick held -x: hand x %.1f -> %.1f mm with the stream +x; let go, streamed on 1.7 s: %.1f -> %.1f mm (%zu "
+              "commands refused); a new stream after a pause: %.1f mm\n",
+              held.p[0] * 1000, streamed.p[0] * 1000, rest.p[0] * 1000, after.p[0] * 1000, refused, rig.pose().p[0] * 1000);
+  EXPECT_NEAR(after.p[0], rest.p[0], 0.003) << "the stream taken over drove the hand again when the stick was let go";
+  EXPECT_GE(refused, 40u);
+  EXPECT_EQ(refused_since(replies_new), 0u);
+  EXPECT_GT(rig.pose().p[0], after.p[0] + 0.03) << "a stream after a pause drives";
+}
+
 }  // namespace
