@@ -8,6 +8,7 @@
 // between ticks the CPU sleeps (idle), which is what the simulator counts as free time.
 #include <avr/interrupt.h>
 #include <avr/io.h>
+#include <util/atomic.h>
 
 #include "app/arm_control.h"
 #include "app/link.h"
@@ -43,11 +44,15 @@ int main() {
   static app::Requests requests{false, false, false, -1, false, false, {0, 0, 0}, {0, 0, 0}};
   for (;;) {
     const uint8_t ticks = tick::wait();
-    const uint16_t begin = TCNT1;
+    // TCNT1 read with interrupts off: its high byte comes through Timer1's TEMP byte, which the
+    // tick's and the servo's ISRs overwrite with their compare writes (datasheet 17.3)
+    uint16_t begin, end;
+    ATOMIC_BLOCK(ATOMIC_FORCEON) { begin = TCNT1; }
     pins::write(board::kTimingProbe, true);
     app::iterate(requests, ticks);
     pins::write(board::kTimingProbe, false);
-    const uint16_t counts = (uint16_t)(TCNT1 - begin);  // Timer1 counts at 2 MHz: 8 CPU cycles a count
+    ATOMIC_BLOCK(ATOMIC_FORCEON) { end = TCNT1; }
+    const uint16_t counts = (uint16_t)(end - begin);  // Timer1 counts at 2 MHz: 8 CPU cycles a count
     watchdog::kick();
     app::link::poll(requests, ticks, counts > 8191 ? 0xFFFF : (uint16_t)(counts * 8));
     eeprom_store::service();

@@ -32,7 +32,14 @@ inline uint8_t admux(uint8_t channel) { return (uint8_t)((1 << REFS0) | (channel
 void start(const uint8_t* channels, uint8_t count, uint16_t sweep_phase_us) {
   if (count > kMaxChannels) count = kMaxChannels;
   g_first_admux = admux(channels[0]);
-  for (uint8_t i = 0; i < count; ++i) g_slots[i].next_admux = i + 1 < count ? admux(channels[i + 1]) : 0;
+  uint8_t analog = 0;
+  for (uint8_t i = 0; i < count; ++i) {
+    g_slots[i].next_admux = i + 1 < count ? admux(channels[i + 1]) : 0;
+    analog |= (uint8_t)(1 << (channels[i] & 7));
+  }
+  // their digital input buffers off: a pot's mid-rail voltage on a Schmitt trigger draws current
+  // and couples noise (datasheet 26.8.6, DIDR0)
+  DIDR0 = analog;
   ADCSRB = 0;  // MUX5 = 0: ADC0..7, no auto trigger
   ADCSRA = kAdcsraOn;
   const uint8_t s = SREG;

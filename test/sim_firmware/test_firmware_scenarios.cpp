@@ -3,6 +3,7 @@
 // telemetry, decoded with firmware/protocol; the arm's from the plant.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -10,10 +11,14 @@
 #include "config/joints_config.h"
 #include "core/joint_map.h"
 #include "core/resolved_rate.h"
+#include "atmega2560.h"
+#include "drivers/steppers.h"
+#include "drivers/system_tick.h"
 #include "drivers/watchdog.h"
 #include "firmware_rig.h"
 #include "kinematics/arm_model.h"
 #include "plant/arm_plant_config.h"
+#include "wiring/timer_decode.h"
 
 namespace {
 
@@ -638,6 +643,92 @@ TEST(FirmwareSafety, ADeflectedStickTakesAStreamOver) {
   EXPECT_GE(refused, 40u);
   EXPECT_EQ(refused_since(replies_new), 0u);
   EXPECT_GT(rig.pose().p[0], after.p[0] + 0.03) << "a stream after a pause drives";
+}
+
+// The peripherals as the firmware left them once running, read from simavr's register file and
+// checked against the ATmega2560 datasheet's tables. simavr accepts settings the chip would run
+// differently (it models only ADC0..7, not every PWM mode on the pins), so the registers
+// themselves are the evidence for the real board.
+namespace hw {
+// data-space addresses (datasheet, Register Summary)
+constexpr uint16_t kTccr0b = 0x45, kTccr2b = 0xB1, kOcr0a = 0x47, kOcr2a = 0xB3;
+constexpr uint16_t kAdcsra = 0x7A, kAdcsrb = 0x7B, kAdmux = 0x7C, kDidr0 = 0x7E;
+constexpr uint16_t kUcsr0a = 0xC0, kUcsr0c = 0xC2, kUbrr0 = 0xC4;
+constexpr uint16_t kEicra = 0x69, kEicrb = 0x6A, kEimsk = 0x3D, kPcicr = 0x68, kPcmsk0 = 0x6B;
+// clock select CSn2:0 -> prescaler (Tables 16-9 and 17-6; Timer2's own, Table 20-9); 0 = stopped
+constexpr int kPrescaler[8] = {0, 1, 8, 64, 256, 1024, -1, -1};
+constexpr int kPrescalerTimer2[8] = {0, 1, 8, 32, 64, 128, 256, 1024};
+}  // namespace hw
+
+TEST(FirmwareRegisters, TimersAdcUartAndInterruptsAsTheDatasheetWants) {
+  Rig rig(kFirmware);
+  rig.run_to(0.3);
+  const uint8_t* d = rig.sim.core().avr()->data;
+  const auto r16 = [d](uint16_t a) { return (uint16_t)(d[a] | d[a + 1] << 8); };
+  const auto snapshot = [&](board::Timer t) {
+    const m2560::TimerRegisters& r = m2560::timer_registers(t);
+    m2560::TimerSnapshot s;
+    s.tccra = d[r.tccra];
+    s.tccrb = d[r.tccrb];
+    for (int c = 0; c < (r.sixteen_bit ? 3 : 2); ++c) s.ocr[c] = r.sixteen_bit ? r16(r.ocr[c]) : d[r.ocr[c]];
+    s.icr = r.icr ? r16(r.icr) : 0;
+    s.sixteen_bit = r.sixteen_bit;
+    return s;
+  };
+  const auto clock_hz = [&](board::Timer t) {
+    const int cs = d[m2560::timer_registers(t).tccrb] & 7;
+    const int n = t == board::Timer::t2 ? hw::kPrescalerTimer2[cs] : hw::kPrescaler[cs];
+    return n > 0 ? 16e6 / n : 0.0;
+  };
+  // the bridges: fast PWM at 20..25 kHz (the BTS7960's range) on every timer they use
+  for (board::Timer t : {board::Timer::t0, board::Timer::t2, board::Timer::t3, board::Timer::t4}) {
+    const m2560::TimerMode m = m2560::timer_mode(snapshot(t));
+    EXPECT_EQ(m.wave, m2560::Wave::fast_pwm) << "timer " << (int)t;
+    const double f_hz = clock_hz(t) / (m.top + 1.0);
+    EXPECT_GE(f_hz, 20000) << "timer " << (int)t;
+    EXPECT_LE(f_hz, 25000) << "timer " << (int)t;
+  }
+  EXPECT_EQ(d[hw::kOcr0a], 99);
+  EXPECT_EQ(d[hw::kOcr2a], 99);
+  // OC0A shares PB7 with the servo's OC1C: COM0A off, or the output compare modulator mixes them
+  EXPECT_EQ(d[m2560::timer_registers(board::Timer::t0).tccra] >> 6, 0);
+  EXPECT_EQ(d[hw::kTccr0b] & 0x08, 0x08) << "WGM02: TOP = OCR0A";
+  EXPECT_EQ(d[hw::kTccr2b] & 0x08, 0x08) << "WGM22: TOP = OCR2A";
+  // Timer5 steps, Timer1 ticks: normal mode at the rates the drivers count in
+  EXPECT_EQ(m2560::timer_mode(snapshot(board::Timer::t5)).wave, m2560::Wave::normal);
+  EXPECT_EQ(clock_hz(board::Timer::t5), (double)steppers::kTickHz);
+  EXPECT_EQ(m2560::timer_mode(snapshot(board::Timer::t1)).wave, m2560::Wave::normal);
+  EXPECT_EQ(clock_hz(board::Timer::t1), 1e6 * tick::kCountsPerUs);
+  // every compare output a driver uses is an output pin
+  const board::ComparePin outputs[] = {board::kStepperJ1.step, board::kStepperJ5.step, board::kStepperJ6.step,
+                                       board::kBridgeJ2.left,  board::kBridgeJ2.right, board::kBridgeJ3.left,
+                                       board::kBridgeJ3.right, board::kBridgeJ4.left,  board::kBridgeJ4.right,
+                                       board::kGripperServo};
+  for (const board::ComparePin& p : outputs)
+    EXPECT_TRUE(d[m2560::ddr_register(p.pin.port)] >> p.pin.bit & 1) << "D" << (int)p.pin.arduino;
+  // ADC: AVcc reference (REFS1:0 = 01), ADC0..7 (MUX5 = 0), a 50..200 kHz clock for 10 bits, the
+  // analog pins' digital buffers off
+  EXPECT_EQ(d[hw::kAdmux] >> 6, 1);
+  EXPECT_EQ(d[hw::kAdcsrb] & 0x08, 0);
+  const double adc_hz = 16e6 / (1 << std::max(1, d[hw::kAdcsra] & 7));
+  EXPECT_GE(adc_hz, 50e3);
+  EXPECT_LE(adc_hz, 200e3);
+  for (uint8_t ch : {board::kAdcJoystickX, board::kAdcJoystickY, board::kAdcPotJ2, board::kAdcPotJ3, board::kAdcPotJ4})
+    EXPECT_TRUE(d[hw::kDidr0] >> ch & 1) << "DIDR0 ADC" << (int)ch << "D";
+  // UART0: 115200 within 2.5 % (U2X: 16 MHz / 8 (UBRR + 1)), 8N1
+  const bool u2x = d[hw::kUcsr0a] & 0x02;
+  const double baud = 16e6 / ((u2x ? 8 : 16) * (r16(hw::kUbrr0) + 1.0));
+  EXPECT_NEAR(baud / board::kSerialBaud, 1.0, 0.025) << baud << " baud";
+  EXPECT_EQ(d[hw::kUcsr0c], 0x06) << "8N1: UCSZ01:0 = 11, no parity, one stop bit";
+  // switches and buttons: INT0..4 on any edge (ISCn1:0 = 01), PCINT0..6 (port B, pull-ups on)
+  EXPECT_EQ(d[hw::kEicra], 0x55);
+  EXPECT_EQ(d[hw::kEicrb] & 0x03, 0x01);
+  EXPECT_EQ(d[hw::kEimsk] & 0x1F, 0x1F);
+  EXPECT_EQ(d[hw::kPcicr] & 1, 1);
+  EXPECT_EQ(d[hw::kPcmsk0], 0x7F);
+  const uint16_t portb = m2560::port_register(board::Port::B), ddrb = m2560::ddr_register(board::Port::B);
+  EXPECT_EQ(d[portb] & 0x7F, 0x7F) << "pull-ups on PB0..6";
+  EXPECT_EQ(d[ddrb] & 0x7F, 0) << "PB0..6 inputs";
 }
 
 }  // namespace
