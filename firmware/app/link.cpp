@@ -1,8 +1,10 @@
 #include "app/link.h"
 
 #include "config/control_config.h"
+#include "config/motion_config.h"
 #include "core/faults.h"
 #include "core/joint_map.h"
+#include "core/stream_limit.h"
 #include "drivers/system_tick.h"
 #include "drivers/uart.h"
 #include "protocol/frame.h"
@@ -26,6 +28,9 @@ uint16_t g_velocity_age_ms = 0xFFFF;
 bool g_stream_taken_over;  // by the stick: velocity commands refused until none came for the timeout
 uint16_t g_loop_cycles_max;
 bool g_send_calibration;  // a calibration frame follows the command's reply (on a later tick if the buffer is full)
+
+constexpr uint16_t kMaxHand_mm_s = (uint16_t)(config::kMaxHandSpeed_m_s.num * 1000 / config::kMaxHandSpeed_m_s.den);
+constexpr uint16_t kMaxWrist_mrad_s = (uint16_t)(config::kMaxWristSpeed_rad_s.num * 1000 / config::kMaxWristSpeed_rad_s.den);
 
 int16_t to_i16(int32_t v) { return (int16_t)(v > 32767 ? 32767 : v < -32767 ? -32767 : v); }
 
@@ -130,6 +135,8 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
       if (!protocol::decode(f, v)) return ReplyStatus::bad_length;
       g_velocity_age_ms = 0;  // (a stream taken over is still arriving: it stays refused)
       if (g_stream_taken_over) return ReplyStatus::refused;
+      core::limit_length(v.v_mm_s, kMaxHand_mm_s);
+      core::limit_length(v.w_mrad_s, kMaxWrist_mrad_s);
       for (uint8_t i = 0; i < 3; ++i) {
         rq.v_mm_s[i] = v.v_mm_s[i];
         rq.w_mrad_s[i] = v.w_mrad_s[i];

@@ -9,6 +9,7 @@
 #include "core/joint_acceleration.h"
 #include "core/resolved_rate.h"
 #include "core/stick_twist.h"
+#include "core/stream_limit.h"
 #include "eigen_reference.h"
 #include "kinematics/wrist_frame.h"
 
@@ -245,6 +246,33 @@ TEST(ResolvedRate, NoMotionTowardsAClosedSwitch) {
 // the hand moves along the mode's axis at the configured speed, and in the rotation modes
 // the frame-6 origin stays put while the wrist turns about the frame-5 axis. (Joint speed
 // limits are lifted here: whether a pose allows full wrist speed is another question.)
+// A streamed velocity within its limit as a length: a longer one is scaled down to at most the
+// limit (within 2 units of it) with its direction kept; one within the limit is left as it is.
+TEST(StreamLimit, LengthWithinTheLimitDirectionKept) {
+  std::mt19937 rng(22);
+  std::uniform_int_distribution<int> component(-32768, 32767), small(-90, 90);
+  const uint16_t limit = 150;
+  for (int k = 0; k < 20000; ++k) {
+    const bool within = k % 4 == 0;
+    int16_t v[3];
+    for (auto& c : v) c = (int16_t)(within ? small(rng) : component(rng));
+    const Eigen::Vector3d before(v[0], v[1], v[2]);
+    core::limit_length(v, limit);
+    const Eigen::Vector3d after(v[0], v[1], v[2]);
+    if (before.norm() <= limit) {
+      ASSERT_EQ(after, before);
+      continue;
+    }
+    ASSERT_LE(after.norm(), limit) << before.transpose();
+    ASSERT_GT(after.norm(), limit - 2.0) << before.transpose();
+    ASSERT_LT((after - after.norm() * before.normalized()).norm(), 1.8) << before.transpose();  // each component truncated by < 1
+  }
+  int16_t corner[3] = {-32768, -32768, -32768};  // the longest a command can be
+  core::limit_length(corner, 800);
+  EXPECT_EQ(corner[0], -461);  // 800 / sqrt(3), rounded towards zero
+  EXPECT_EQ(corner[2], corner[0]);
+}
+
 TEST(StickTwist, EveryModeMovesTheHandAsTheSpecSays) {
   core::MotionLimits limits = kLimits;
   for (auto& l : limits.joint) l.speed_rad_s = fx::real(10.0);

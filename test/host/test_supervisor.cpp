@@ -163,7 +163,7 @@ TEST(Supervisor, ShortPressCyclesTheModesOnlyWhileRunning) {
 // A home command during the move to the ready pose (the link refuses it there, just homed) is
 // ignored: on main it was kept as a flag, the move went on into running, and the next re-arm,
 // after any later stop, homed the steppers (J1 swung to its +90 deg switch) where the person
-// expected the arm to stay (review22; scenarios/review22-home-in-to-ready.txt).
+// expected the arm to stay (review22).
 TEST(Supervisor, AHomeCommandDuringTheMoveToTheReadyPoseLeavesNoStaleRequest) {
   auto in = quiet();
   core::Supervisor s = moving_to_ready(in);
