@@ -71,12 +71,11 @@ FrameBuffer g_frame;
 uint8_t* const kPayload = g_frame.bytes + protocol::kHeaderBytes;
 
 // g_frame, its payload of `length` bytes in place, to the transmit buffer; false when that had
-// no room: the frame is dropped whole.
+// no room: the frame is dropped whole. Its number is used up either way, so that the host sees
+// a gap for every frame dropped (docs/telemetry.md).
 bool send(MsgType type, uint8_t length) {
-  const uint8_t n = protocol::write_frame((uint8_t)type, g_seq, kPayload, length, g_frame.bytes);
-  if (!uart::write(g_frame.bytes, n)) return false;
-  ++g_seq;
-  return true;
+  const uint8_t n = protocol::write_frame((uint8_t)type, g_seq++, kPayload, length, g_frame.bytes);
+  return uart::write(g_frame.bytes, n);
 }
 
 void reply(const protocol::Frame& f, ReplyStatus status) {
@@ -192,7 +191,11 @@ __attribute__((noinline)) void send_state() {
 }
 
 __attribute__((noinline)) void send_calibration() {
-  if (send(MsgType::calibration, protocol::encode(calibration(), kPayload))) g_send_calibration = false;
+  // not sent: it is sent on a later tick, nothing is lost, so it gives its number back (no gap)
+  if (send(MsgType::calibration, protocol::encode(calibration(), kPayload)))
+    g_send_calibration = false;
+  else
+    --g_seq;
 }
 
 __attribute__((noinline)) void receive(Requests& rq) {

@@ -143,7 +143,7 @@ TEST(TelemetryJson, FramesThatDoNotFitTheirType) {
             "{\"type\":\"unknown\",\"type_id\":66,\"seq\":4,\"payload\":\"ff\"}");
 }
 
-TEST(FrameStream, CountsSeqGapsOfTheFirmwareOnly) {
+TEST(FrameStream, CountsSeqGapsAndTheFramesMissingOfTheFirmwareOnly) {
   telemetry::FrameStream s;
   std::vector<uint8_t> bytes;
   auto add = [&](const std::vector<uint8_t>& b) { bytes.insert(bytes.end(), b.begin(), b.end()); };
@@ -161,6 +161,7 @@ TEST(FrameStream, CountsSeqGapsOfTheFirmwareOnly) {
   EXPECT_EQ(frames, 8);
   EXPECT_EQ(s.frames(), 8u);
   EXPECT_EQ(s.seq_gaps(), 2u);
+  EXPECT_EQ(s.missing_frames(), 3u);
   EXPECT_EQ(s.summary(), "frames 8, crc errors 1, framing errors 0, skipped bytes 0, seq gaps 2");
 }
 

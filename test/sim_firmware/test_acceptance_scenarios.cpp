@@ -510,4 +510,82 @@ TEST(AcceptanceScenarios, S9SerialGarbageNeverMovesNorResets) {
   EXPECT_EQ(rig.last().mode, (uint8_t)config::Mode::xz);
 }
 
+// A flood of commands: 250 as fast as the line takes them, speed_scale setting the scale the
+// arm already has (so nothing moves), every 10th get_calibration, each with a reply. The
+// replies (10 bytes for 8 in) and the state frames outrun the line, the transmit buffer fills
+// and the firmware drops frames: each one dropped must show as a frame missing by seq
+// (docs/telemetry.md), so the frames missing by number are the replies that did not come plus
+// the state frames missing by time. A calibration frame that finds the buffer full is sent
+// later: it leaves no gap. The arm stays running and still, no fault, no reset, nothing
+// refused, and the link answers after.
+TEST(AcceptanceScenarios, ACommandFloodDropsFramesEachMissingBySeq) {
+  constexpr int kCommands = 250;  // their seqs 0..249: one each, in order
+  Running r;
+  ASSERT_TRUE(r.ok());
+  Rig& rig = r.rig;
+  const protocol::StateMsg before = rig.last();
+  const size_t first_state = rig.telemetry.states().size(), first_reply = rig.telemetry.replies().size();
+  const size_t first_calibration = rig.telemetry.calibrations().size();
+  const uint64_t missing_before = rig.telemetry.stream().missing_frames();
+  const uint64_t rx_dropped_before = rig.sim.measurements().uart_rx_dropped;
+  const int64_t steps = r.steps_commanded();
+  const armsim::TrajectoryRow start = rig.pose();
+  // one command every 0.75 ms (its 8 bytes take 0.69 ms on the line): back to back, simavr's
+  // receive FIFO overflows in a long burst (132 of these 2,000 bytes dropped, uart_rx_dropped)
+  constexpr double kCommandEvery_s = 0.75e-3;
+  const double t_flood_s = rig.sim.time_s();
+  for (int k = 0; k < kCommands; ++k) {
+    rig.sim.send_serial(k % 10 == 9 ? command(protocol::MsgType::cmd_get_calibration, (uint8_t)k)
+                                    : command(protocol::MsgType::cmd_speed_scale, (uint8_t)k, {before.speed_scale_pct}));
+    rig.run_to(t_flood_s + (k + 1) * kCommandEvery_s);
+  }
+  rig.run_to(rig.sim.time_s() + 0.5);
+
+  const std::vector<protocol::ReplyMsg>& replies = rig.telemetry.replies();
+  const int replied = (int)(replies.size() - first_reply);
+  for (size_t i = first_reply; i < replies.size(); ++i) {
+    EXPECT_EQ(replies[i].command_type, (uint8_t)(replies[i].command_seq % 10 == 9 ? protocol::MsgType::cmd_get_calibration
+                                                                                  : protocol::MsgType::cmd_speed_scale));
+    EXPECT_EQ(replies[i].status, (uint8_t)protocol::ReplyStatus::ok) << "command " << (int)replies[i].command_seq;
+    if (i > first_reply) EXPECT_GT(replies[i].command_seq, replies[i - 1].command_seq) << "in order, each once";
+  }
+  // state frames missing by time: each is due 20 ms after the one before (sent at the first
+  // iteration at or past that, a ms or two late at rest)
+  const std::vector<protocol::StateMsg>& states = rig.telemetry.states();
+  uint64_t states_missing = 0;
+  for (size_t i = first_state; i < states.size(); ++i) {
+    const uint32_t dt_ms = states[i].t_ms - states[i - 1].t_ms;
+    states_missing += (dt_ms + protocol::kStatePeriod_ms / 2) / protocol::kStatePeriod_ms - 1;
+    EXPECT_EQ(states[i].state, (uint8_t)core::ArmState::running) << "at " << states[i].t_ms << " ms";
+  }
+  const uint64_t missing_by_seq = rig.telemetry.stream().missing_frames() - missing_before;
+  const size_t calibrations = rig.telemetry.calibrations().size() - first_calibration;
+  std::printf("command flood: %d commands, %d replies, %zu calibration frames, %llu state frames missing by time, "
+              "%llu frames missing by seq\n",
+              kCommands, replied, calibrations, (unsigned long long)states_missing, (unsigned long long)missing_by_seq);
+  // one for each get_calibration, or one for several while it waited for room
+  EXPECT_GE(calibrations, 1u);
+  EXPECT_LE(calibrations, (size_t)kCommands / 10);
+  EXPECT_LT(replied, kCommands) << "the flood outran the line: replies were dropped";
+  EXPECT_EQ(rig.sim.measurements().uart_rx_dropped, rx_dropped_before) << "every command reached the firmware";
+  EXPECT_EQ(missing_by_seq, (uint64_t)(kCommands - replied) + states_missing) << "each frame dropped is a gap";
+  // nothing else happened
+  EXPECT_TRUE(rig.sim.measurements().resets.empty());
+  EXPECT_EQ(rig.telemetry.boots().size(), 1u);
+  EXPECT_EQ(rig.last().faults, 0u);
+  EXPECT_EQ(rig.last().mode, before.mode);
+  EXPECT_EQ(rig.last().speed_scale_pct, before.speed_scale_pct);
+  EXPECT_EQ(rig.last().rx_crc_errors, before.rx_crc_errors);
+  EXPECT_EQ(rig.last().rx_rejected, before.rx_rejected);
+  EXPECT_EQ(r.steps_commanded(), steps);
+  EXPECT_LE(distance_mm(rig.pose().p, start.p), 0.1);
+  EXPECT_LE(r.watch.largest_travel_rad(), 1e-4);
+  // the link still answers
+  rig.sim.send_serial(command(protocol::MsgType::cmd_stop, 7));
+  rig.run_to(rig.sim.time_s() + 0.1);
+  ASSERT_GT(rig.telemetry.replies().size(), first_reply + replied);
+  EXPECT_EQ(rig.telemetry.replies().back().command_seq, 7);
+  EXPECT_EQ(rig.state(), core::ArmState::stopped);
+}
+
 }  // namespace

@@ -185,7 +185,11 @@ bool FrameStream::feed(uint8_t byte) {
   ++frames_;
   const Frame& f = parser_.frame();
   if (!is_command(f.type)) {
-    if (last_seq_ >= 0 && f.type != (uint8_t)MsgType::boot && f.seq != (uint8_t)(last_seq_ + 1)) ++seq_gaps_;
+    if (last_seq_ >= 0 && f.type != (uint8_t)MsgType::boot) {
+      const uint8_t missing = (uint8_t)(f.seq - last_seq_ - 1);
+      missing_frames_ += missing;
+      seq_gaps_ += missing != 0;
+    }
     last_seq_ = f.seq;
   }
   return true;

@@ -29,8 +29,8 @@ inline bool is_command(uint8_t type) { return type >= (uint8_t)protocol::MsgType
 
 // The frames of a byte stream, as protocol::Parser finds them, and the gaps in the firmware's
 // sequence numbers: a state, reply or boot frame whose seq is not one more than the previous
-// one's (a boot frame starts the count again: the firmware reset). Host commands carry the
-// host's numbers and are left out of it.
+// one's (a boot frame starts the count again: the firmware reset), and the frames missing in
+// them (a gap from 4 to 7 is 2). Host commands carry the host's numbers and are left out of it.
 class FrameStream {
  public:
   bool feed(uint8_t byte);  // true when byte completed a frame: frame() holds it
@@ -38,12 +38,13 @@ class FrameStream {
   const protocol::Parser& parser() const { return parser_; }
   uint64_t frames() const { return frames_; }
   uint64_t seq_gaps() const { return seq_gaps_; }
+  uint64_t missing_frames() const { return missing_frames_; }  // by number (256 or more in one gap read as fewer)
   // "frames N, crc errors N, framing errors N, skipped bytes N, seq gaps N"
   std::string summary() const;
 
  private:
   protocol::Parser parser_;
-  uint64_t frames_ = 0, seq_gaps_ = 0;
+  uint64_t frames_ = 0, seq_gaps_ = 0, missing_frames_ = 0;
   int last_seq_ = -1;  // -1: no firmware frame yet
 };
 
