@@ -119,6 +119,7 @@ constexpr uint16_t kVersion1Bytes = offsetof(Settings, pot_calibrated);
 constexpr uint16_t kVersion2Bytes = offsetof(Settings, stick_centre_counts);
 static_assert(kVersion1Bytes == 6 * 2 + kPoseSlots * 6 * 4 + 1, "version 1's fields, packed as avr-gcc packs them");
 static_assert(kVersion2Bytes == kVersion1Bytes + 1, "version 2's fields, packed as avr-gcc packs them");
+static_assert(sizeof(Settings) <= eeprom_store::kMaxDataBytes, "the settings fit a copy's room in EEPROM");
 eeprom_store::LoadResult load_settings(Settings& s) {
   eeprom_store::LoadResult r = eeprom_store::load(kSettingsVersion, &s, sizeof s);
   if (r == eeprom_store::LoadResult::other_version) {

@@ -563,6 +563,17 @@ void ArmSimulator::set_eeprom(const std::vector<uint8_t>& bytes) {
   if (avr_ioctl(core_->avr(), AVR_IOCTL_EEPROM_SET, &d) == -2) throw std::runtime_error("simavr refused the EEPROM image");
 }
 
+std::vector<uint8_t> ArmSimulator::eeprom() const {
+  avr_t* avr = core_->avr();
+  std::vector<uint8_t> bytes(avr->e2end + 1u);
+  avr_eeprom_desc_t d;
+  d.ee = bytes.data();
+  d.offset = 0;
+  d.size = (uint32_t)bytes.size();
+  if (avr_ioctl(avr, AVR_IOCTL_EEPROM_GET, &d) == -2) throw std::runtime_error("simavr gave no EEPROM image");
+  return bytes;
+}
+
 void ArmSimulator::after_reset() {
   avr_t* avr = core_->avr();
   if (config_.stock_bootloader) avr->data[m2560::kMcusr] = 0;  // the reset's own cause is in measurements()

@@ -113,6 +113,8 @@ class ArmSimulator {
   void send_serial(const std::vector<uint8_t>& bytes);   // queued, sent at the line's baud rate
   // The chip's EEPROM from address 0, as an earlier firmware left it (before the first run)
   void set_eeprom(const std::vector<uint8_t>& bytes);
+  // The chip's whole EEPROM as it is now (what a board powered off now would find at power-up)
+  std::vector<uint8_t> eeprom() const;
 
   // --- time
   // Runs until the simulated time reaches t_s (or the core stops: halted or crashed).
