@@ -547,7 +547,9 @@ TEST(AcceptanceScenarios, ACommandFloodDropsFramesEachMissingBySeq) {
     EXPECT_EQ(replies[i].command_type, (uint8_t)(replies[i].command_seq % 10 == 9 ? protocol::MsgType::cmd_get_calibration
                                                                                   : protocol::MsgType::cmd_speed_scale));
     EXPECT_EQ(replies[i].status, (uint8_t)protocol::ReplyStatus::ok) << "command " << (int)replies[i].command_seq;
-    if (i > first_reply) EXPECT_GT(replies[i].command_seq, replies[i - 1].command_seq) << "in order, each once";
+    if (i > first_reply) {
+      EXPECT_GT(replies[i].command_seq, replies[i - 1].command_seq) << "in order, each once";
+    }
   }
   // state frames missing by time: each is due 20 ms after the one before (sent at the first
   // iteration at or past that, a ms or two late at rest)
