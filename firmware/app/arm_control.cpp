@@ -1,5 +1,7 @@
 #include "app/arm_control.h"
 
+#include <avr/pgmspace.h>
+
 #include "app/settings.h"
 #include "app/velocity_request.h"
 #include "config/control_config.h"
@@ -198,7 +200,17 @@ core::Supervisor g_supervisor;
 core::ArmState g_prev_state = core::ArmState::boot;
 control::Joystick g_stick;
 control::Button g_button;
-core::DcServo g_servo[3];
+// The DC servos are built at boot from one copy of their start state in flash rather than copied
+// from .data, which holds an initialised object whole, zeros too (3 x 125 bytes)
+const core::DcServo kServoAtBoot PROGMEM{};
+union DcServos {
+  DcServos() {
+    for (uint8_t d = 0; d < 3; ++d) memcpy_P(&servo[d], &kServoAtBoot, sizeof servo[d]);
+  }
+  core::DcServo servo[3];
+} g_servos;
+static_assert(__is_trivially_copyable(core::DcServo), "a servo's bytes are its state");
+core::DcServo (&g_servo)[3] = g_servos.servo;
 // A DC joint's state that its servo's run reads, together: run_dc_servo reaches every field
 // from one address (a table per field cost an address sum each, ~100 cycles a run)
 struct DcJoint {
