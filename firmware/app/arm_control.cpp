@@ -1065,7 +1065,7 @@ CalibrationChange calibrate_pot(uint8_t joint, int16_t at_min_counts_x16, int16_
   if (joint < 2 || joint > 4) return CalibrationChange::bad_argument;
   if (g_supervisor.drives_enabled()) return CalibrationChange::refused;
   const uint8_t d = (uint8_t)(joint - 2);
-  if (!app::set_pot_calibration(*g_settings, d, at_min_counts_x16, at_max_counts_x16))
+  if (!app::set_pot_calibration(*g_settings, d, at_min_counts_x16, at_max_counts_x16, g_dc[d].units))
     return CalibrationChange::bad_argument;
   configure_pot(*g_settings, d);
   return CalibrationChange::ok;

@@ -85,8 +85,11 @@ void reply(const protocol::Frame& f, ReplyStatus status) {
 }
 
 #ifdef WMRA_TEST_HOOKS
-// test builds only: a command that hangs the main loop, for the watchdog scenario (S10)
+// test builds only: a command that hangs the main loop, for the watchdog scenario (S10), and
+// one that stalls it for payload[0] ms (under watchdog::kStallCut_ms), for the receive ring's
+// overruns: a loop that keeps its ticks reads faster than the line
 constexpr uint8_t kTestHangCommand = 0x7F;
+constexpr uint8_t kTestStallCommand = 0x7E;
 #endif
 
 __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
@@ -94,6 +97,12 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
   if (f.type == kTestHangCommand) {
     for (;;) {
     }
+  }
+  if (f.type == kTestStallCommand && f.len == 1) {
+    const uint32_t end_ms = tick::now_ms() + f.payload[0];
+    while ((int32_t)(tick::now_ms() - end_ms) < 0) {
+    }
+    return ReplyStatus::ok;
   }
 #endif
   const ReplyStatus check = protocol::check_command(f);
@@ -186,6 +195,7 @@ __attribute__((noinline)) void send_state() {
   m.rx_crc_errors = g_parser.crc_errors();
   m.rx_framing_errors = g_parser.framing_errors();
   m.rx_rejected = g_rejected;
+  m.rx_overruns = uart::rx_overruns();
   send(MsgType::state, (uint8_t)sizeof m);
   g_loop_cycles_max = 0;
 }

@@ -140,13 +140,24 @@ eeprom_store::LoadResult load_settings(Settings& s) {
   return r;
 }
 
-bool set_pot_calibration(Settings& s, uint8_t d, int16_t at_min_counts_x16, int16_t at_max_counts_x16) {
+// The joint stands between its limits, so its pot reads between their readings: a calibration
+// that puts the present reading beyond one (a typo, the two values swapped) would be stored and
+// then fault or move the joint at the next arming. The tolerance is the pot rail check's margin
+// (kRailMargin_counts, 20 counts, 6 to 11 deg over J2-J4's spans): a joint resting on its end
+// stop, a few counts of noise past the reading taken there, is accepted.
+constexpr int16_t kReadingBeyondLimit_counts_x16 = kRailMargin_counts * kPositionUnitsPerCount;
+
+bool set_pot_calibration(Settings& s, uint8_t d, int16_t at_min_counts_x16, int16_t at_max_counts_x16,
+                         int16_t reading_counts_x16) {
   if (d >= 3) return false;
   if (at_min_counts_x16 == 0 && at_max_counts_x16 == 0) {
     s.pot_calibrated &= (uint8_t)~(1 << d);
     apply_config_calibration(s);
   } else {
     if (!plausible(at_min_counts_x16, at_max_counts_x16)) return false;
+    if (reading_counts_x16 < at_min_counts_x16 - kReadingBeyondLimit_counts_x16 ||
+        reading_counts_x16 > at_max_counts_x16 + kReadingBeyondLimit_counts_x16)
+      return false;
     s.pot_at_min_counts_x16[d] = at_min_counts_x16;
     s.pot_at_max_counts_x16[d] = at_max_counts_x16;
     s.pot_calibrated |= (uint8_t)(1 << d);

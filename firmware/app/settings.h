@@ -33,8 +33,11 @@ constexpr uint8_t kSettingsVersion = 3;
 eeprom_store::LoadResult load_settings(Settings& s);
 void save_settings(const Settings& s);
 // One DC joint's (d: 0..2 for J2..J4) pot counts x 16 at its limits; both 0 return it to
-// joints_config.h. False, changing nothing, for values no pot and amplifier could give.
-bool set_pot_calibration(Settings& s, uint8_t d, int16_t at_min_counts_x16, int16_t at_max_counts_x16);
+// joints_config.h. False, changing nothing, for values no pot and amplifier could give, a
+// reversed pot (at_min above at_max: swap its outer wires, docs/arm-guide.md), or limits that
+// leave the pot's present reading beyond one of them by more than the rail check's margin.
+bool set_pot_calibration(Settings& s, uint8_t d, int16_t at_min_counts_x16, int16_t at_max_counts_x16,
+                         int16_t reading_counts_x16);
 // The stick's released centre (x, y counts), kept; 0 0 forgets it. False, changing nothing, for
 // a centre beyond kStickCentreTolerance_counts of mid-scale (what a new board accepts).
 bool set_stick_centre(Settings& s, uint16_t x_counts, uint16_t y_counts);

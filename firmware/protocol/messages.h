@@ -79,6 +79,7 @@ struct StateMsg {  // every kStatePeriod_ms
   uint8_t speed_scale_pct;    // 0..100
   uint16_t loop_cycles_max;   // longest control iteration since the previous state frame, CPU cycles
   uint16_t rx_crc_errors, rx_framing_errors, rx_rejected;  // the firmware's counters (rejected = replies != ok)
+  uint16_t rx_overruns;       // bytes the firmware never read: its receive buffer full, or the UART's own overrun
 
   static constexpr MsgType kType = MsgType::state;
   template <class Io, class Self>
@@ -99,6 +100,7 @@ struct StateMsg {  // every kStatePeriod_ms
     io(m.rx_crc_errors);
     io(m.rx_framing_errors);
     io(m.rx_rejected);
+    io(m.rx_overruns);
   }
 };
 
@@ -186,7 +188,7 @@ constexpr uint8_t kStatePayloadBytes = payload_bytes<StateMsg>();
 constexpr uint8_t kVelocityPayloadBytes = payload_bytes<VelocityCmd>();
 static_assert(kStatePayloadBytes <= kMaxPayload, "a state frame fits one frame");
 // the documented layouts (docs/telemetry.md): a change here is a change of kVersion
-static_assert(kStatePayloadBytes == 57 && kVelocityPayloadBytes == 12, "payload sizes as documented");
+static_assert(kStatePayloadBytes == 59 && kVelocityPayloadBytes == 12, "payload sizes as documented");
 static_assert(payload_bytes<ReplyMsg>() == 3 && payload_bytes<BootMsg>() == 2, "payload sizes as documented");
 static_assert(payload_bytes<CalibrationMsg>() == 19 && payload_bytes<PotCalibrationCmd>() == 5, "payload sizes as documented");
 

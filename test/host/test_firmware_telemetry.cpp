@@ -59,7 +59,7 @@ TEST(FirmwareTelemetry, DecodesWhatTheFirmwareSays) {
   f.message(state(40, 6, 2, fault_mask(4)), 2);  // j3_stall
   f.message(ReplyMsg{(uint8_t)MsgType::cmd_rearm, 9, (uint8_t)ReplyStatus::refused}, 3);
   f.message(state(60, 6, 2, fault_mask(3) | fault_mask(4)), 4);  // j2_rail joins it
-  f.bytes({0xA5, 0x01, 0x01, 0x05, 0x00, 0x12, 0x34});           // seq 5, bad CRC
+  f.bytes({0xA5, kVersion, 0x01, 0x05, 0x00, 0x12, 0x34});           // seq 5, bad CRC
   f.message(state(100, 6, 3, fault_mask(core::kFaultBitStickInvalid)), 6);
   f.message(BootMsg{0x08 | 0x04, 2}, 0);  // watchdog and brown-out
   f.message(BootMsg{0x00, 0}, 0);

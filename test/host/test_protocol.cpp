@@ -68,7 +68,7 @@ TEST(Frame, LayoutAndCrcLittleEndian) {
   const std::vector<uint8_t> f = frame_bytes(0x12, 7, {0x01});
   ASSERT_EQ(f.size(), 8u);
   EXPECT_EQ(f[0], 0xA5);
-  EXPECT_EQ(f[1], 1);
+  EXPECT_EQ(f[1], 2);  // kVersion: 2 since the state frame's rx_overruns
   EXPECT_EQ(f[2], 0x12);
   EXPECT_EQ(f[3], 7);
   EXPECT_EQ(f[4], 1);
@@ -83,7 +83,7 @@ TEST(Frame, LayoutAndCrcLittleEndian) {
 }
 
 TEST(Messages, StateOffsetsAsDocumented) {
-  EXPECT_EQ(kStatePayloadBytes, 57);
+  EXPECT_EQ(kStatePayloadBytes, 59);
   uint8_t p[kMaxPayload];
   ASSERT_EQ(encode(sample_state(), p), kStatePayloadBytes);
   EXPECT_EQ(p[0], 0xEF);  // t_ms 0x89abcdef, little-endian
@@ -110,6 +110,7 @@ TEST(Messages, StateOffsetsAsDocumented) {
   EXPECT_EQ(le16(p + 51), 0x0102);          // rx_crc_errors
   EXPECT_EQ(le16(p + 53), 0xFFFF);          // rx_framing_errors
   EXPECT_EQ(le16(p + 55), 7);               // rx_rejected
+  EXPECT_EQ(le16(p + 57), 0x1234);          // rx_overruns
 }
 
 TEST(Messages, OtherPayloadsAsDocumented) {
@@ -171,6 +172,7 @@ TEST(Messages, RoundTripThroughTheParser) {
   EXPECT_EQ(s.rx_crc_errors, state.rx_crc_errors);
   EXPECT_EQ(s.rx_framing_errors, state.rx_framing_errors);
   EXPECT_EQ(s.rx_rejected, state.rx_rejected);
+  EXPECT_EQ(s.rx_overruns, state.rx_overruns);
   ASSERT_TRUE(decode(frames[1], r));
   EXPECT_EQ(r.command_type, 0x17);
   EXPECT_EQ(r.command_seq, 200);
@@ -248,18 +250,18 @@ TEST(Parser, EveryFlippedBitIsRejectedAndCounted) {
 TEST(Parser, GarbageThenAValidFrame) {
   Parser p;
   // plain noise, a stray sync, a sync with a wrong version, a sync then a repeated sync
-  const std::vector<uint8_t> garbage = {0x00, 0xFF, 0x13, 0xA5, 0x02, 0x77, 0xA5, 0xA5};
+  const std::vector<uint8_t> garbage = {0x00, 0xFF, 0x13, 0xA5, 0x01, 0x77, 0xA5, 0xA5};
   const auto frames = feed_all(p, cat({garbage, message_bytes(BootMsg{1, 0}, 0)}));
   ASSERT_EQ(frames.size(), 1u);
   EXPECT_EQ(frames[0].type, (uint8_t)MsgType::boot);
   EXPECT_EQ(p.skipped_bytes(), 6);   // 00 ff 13 77, and the two syncs before the frame's own
-  EXPECT_EQ(p.framing_errors(), 1);  // version 2
+  EXPECT_EQ(p.framing_errors(), 1);  // version 1
   EXPECT_EQ(p.crc_errors(), 0);
 }
 
 TEST(Parser, LengthBeyondMaxPayloadIsAFramingError) {
   Parser p;
-  const std::vector<uint8_t> too_long = {0xA5, 0x01, 0x01, 0x00, kMaxPayload + 1};
+  const std::vector<uint8_t> too_long = {0xA5, kVersion, 0x01, 0x00, kMaxPayload + 1};
   const auto frames = feed_all(p, cat({too_long, message_bytes(ReplyMsg{}, 1)}));
   EXPECT_EQ(p.framing_errors(), 1);
   ASSERT_EQ(frames.size(), 1u);
@@ -300,7 +302,7 @@ TEST(Parser, OneMegabyteOfRandomBytes) {
               std::vector<uint8_t>(start, start + size));
     EXPECT_EQ(le16(start + size - 2), crc_bitwise(start + 1, size - 3));
   }
-  // a sync (1/256), version 1 (1/256), a length <= 64 (1/4) and the CRC (1/65536) by chance:
+  // a sync (1/256), version 2 (1/256), a length <= 64 (1/4) and the CRC (1/65536) by chance:
   // about 4 candidate frames per MB and 6e-5 valid ones
   EXPECT_LE(valid, 1);
   EXPECT_GE(p.crc_errors(), 1);

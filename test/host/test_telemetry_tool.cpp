@@ -90,12 +90,14 @@ TEST(TelemetryJson, StateFrame) {
   s.rx_crc_errors = 1;
   s.rx_framing_errors = 2;
   s.rx_rejected = 3;
+  s.rx_overruns = 4;
   EXPECT_EQ(to_json(parse_one(message_bytes(s, 12))),
             "{\"type\":\"state\",\"seq\":12,\"t_ms\":1020,\"state\":\"running\",\"mode\":\"xy\","
             "\"faults\":[\"j2_rail\",\"stick_invalid\",\"bit_20\"],\"slowed_by\":[\"singular\",\"joint_speed\"],"
             "\"reset_cause\":[\"watchdog\"],\"switches\":[\"j1_low\",\"j6_zero\"],\"q_mrad\":[0,-785,0,0,0,0],"
             "\"qd_mrad_s\":[0,0,0,0,0,12],\"p_0p1mm\":[10770,0,0],\"stick_permille\":[0,-1000],\"speed_scale_pct\":80,"
-            "\"loop_cycles_max\":5123,\"rx_crc_errors\":1,\"rx_framing_errors\":2,\"rx_rejected\":3}");
+            "\"loop_cycles_max\":5123,\"rx_crc_errors\":1,\"rx_framing_errors\":2,\"rx_rejected\":3,"
+            "\"rx_overruns\":4}");
   s.state = 9;
   s.mode = 7;
   const std::string unknown = to_json(parse_one(message_bytes(s, 12)));
@@ -152,7 +154,7 @@ TEST(FrameStream, CountsSeqGapsAndTheFramesMissingOfTheFirmwareOnly) {
   add(frame_bytes(0x10, 77, {}));                  // a host command: its own numbers
   add(message_bytes(ReplyMsg{0x10, 77, 0}, 2));
   add(message_bytes(StateMsg{}, 5));               // 3 and 4 lost: one gap
-  add({0xA5, 0x01, 0x01, 0x06, 0x00, 0x00, 0x00});  // a bad CRC
+  add({0xA5, kVersion, 0x01, 0x06, 0x00, 0x00, 0x00});  // a bad CRC
   add(message_bytes(StateMsg{}, 7));               // 6 lost with it: a second gap
   add(message_bytes(BootMsg{8, 0}, 0));            // a reset: no gap
   add(message_bytes(StateMsg{}, 1));
@@ -213,7 +215,7 @@ TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
   EXPECT_EQ(r.err, "wmra-telemetry: frames 14, crc errors 0, framing errors 0, skipped bytes 1, seq gaps 0\n");
   r = cli("decode " + path);  // a file
   EXPECT_EQ(r.out, expected);
-  EXPECT_EQ(cli("encode stop").out, "a50110000017b1\n");  // the CRC by hand: docs/telemetry.md
+  EXPECT_EQ(cli("encode stop").out, "a502100000cb2a\n");  // the CRC by hand: docs/telemetry.md
 }
 
 TEST(WmraTelemetryCli, DecodeCountsWhatWentWrong) {
@@ -282,6 +284,8 @@ TEST(WmraTelemetryCli, BadInputExitsWithTwo) {
   }
   EXPECT_NE(cli("encode speed 101").err.find("from 0 to 100, not '101'"), std::string::npos);
   EXPECT_NE(cli("encode mode xw").err.find("xy, xz, r1, r2 or gripper"), std::string::npos);
+  EXPECT_NE(cli("encode calibrate-from 3 8000 0 6000 60").err.find("wired reversed, swap its two outer wires"),
+            std::string::npos);
 }
 
 TEST(WmraTelemetryCli, UnopenableInputExitsWithThree) {

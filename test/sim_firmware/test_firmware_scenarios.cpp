@@ -316,6 +316,77 @@ TEST(FirmwareCalibration, PotCalibrationByCommandIsCheckedKeptAndUndone) {
   ASSERT_EQ(calibrate(3, 0, 0), ReplyStatus::ok);
   EXPECT_EQ(rig.telemetry.calibrations().back().at_min_counts_x16[1], config_min);
   EXPECT_EQ(rig.telemetry.calibrations().back().from_command, 0);
+
+  // A pot wired reversed (its reading falls as the angle rises): refused, the guide says to swap
+  // its outer wires (the servo, its plausibility checks and its tracking work in pot units that
+  // rise with the angle).
+  EXPECT_EQ(calibrate(3, config_max, config_min), ReplyStatus::bad_argument) << "a reversed pot";
+  // Limits that put J3's present reading beyond one of them by more than the pot rail check's
+  // margin (kRailMargin_counts): refused; within it (a joint resting on its end stop): taken.
+  // With a span of 600 counts only one side fits the ADC's range at a given reading.
+  ASSERT_EQ(ask(MsgType::cmd_get_calibration, {}), ReplyStatus::ok);
+  const size_t calibrations = rig.telemetry.calibrations().size();
+  const int16_t reading = rig.telemetry.calibrations().back().reading_counts_x16[1];
+  const int16_t span = 600 * 16, noise = 4 * 16, margin = config::kRailMargin_counts * 16;
+  const bool limit_above = reading + margin + noise + span <= 1023 * 16;
+  ASSERT_TRUE(limit_above || reading - margin - noise - span >= 0) << "J3 reads " << reading;
+  const auto past_reading = [&](int16_t by) {  // limits with the reading `by` beyond the nearer one
+    return limit_above ? calibrate(3, (int16_t)(reading + by), (int16_t)(reading + by + span))
+                       : calibrate(3, (int16_t)(reading - by - span), (int16_t)(reading - by));
+  };
+  EXPECT_EQ(past_reading((int16_t)(margin + noise)), ReplyStatus::bad_argument) << "the reading beyond a limit";
+  EXPECT_EQ(rig.telemetry.calibrations().size(), calibrations) << "nothing changed";
+  EXPECT_EQ(past_reading((int16_t)(margin - noise)), ReplyStatus::ok) << "a joint resting on its end stop";
+  EXPECT_EQ(rig.telemetry.calibrations().back().from_command, 2);
+  ASSERT_EQ(calibrate(3, 0, 0), ReplyStatus::ok);
+}
+
+// Bytes the firmware never read (its 64-byte receive ring full) show in the state frame's
+// rx_overruns. A loop that keeps its ticks reads 32 bytes a tick, 2.8 times the line's 11.5, so
+// a flood at the full 115200 baud loses nothing; a loop that falls behind loses what arrives
+// once the ring is full. Here a test build's command stalls the loop for 8 ms (under the stall
+// cut's 10) with a flood of commands behind it: 8 ms of the line is 92 bytes, 63 fit the ring.
+TEST(FirmwareLink, ReceiveOverrunsReportedWhenTheLoopFallsBehindAFlood) {
+  using protocol::MsgType;
+  constexpr int kCommands = 40;              // speed_scale, 8 bytes each
+  constexpr double kCommandEvery_s = 0.75e-3;  // 0.69 ms of the line each: as fast as simavr takes them
+  constexpr uint8_t kStall_ms = 8;
+  Rig rig(kTestFirmware);
+  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  ASSERT_GT(t_running, 0);
+  const uint8_t pct = rig.last().speed_scale_pct;
+  uint8_t seq = 0;
+  // returns the commands answered
+  const auto flood = [&](bool stall) {
+    const size_t replies = rig.telemetry.replies().size();
+    if (stall) rig.sim.send_serial(command((MsgType)0x7E, seq++, {kStall_ms}));
+    const double t0 = rig.sim.time_s();
+    for (int k = 0; k < kCommands; ++k) {
+      rig.sim.send_serial(command(MsgType::cmd_speed_scale, seq++, {pct}));
+      rig.run_to(t0 + (k + 1) * kCommandEvery_s);
+    }
+    rig.run_to(rig.sim.time_s() + 0.1);
+    return (int)(rig.telemetry.replies().size() - replies) - (stall ? 1 : 0);
+  };
+  const uint64_t simavr_dropped = rig.sim.measurements().uart_rx_dropped;
+  EXPECT_EQ(flood(false), kCommands) << "a flood at the line's rate: every command answered";
+  EXPECT_EQ(rig.last().rx_overruns, 0);
+  const int answered = flood(true);
+  const int overruns = rig.last().rx_overruns;
+  const double arrived_in_stall = kStall_ms * 1e-3 * 115200 / 10;
+  std::printf("flood behind an %d ms stall: %d of %d commands answered, rx_overruns %d (%.0f bytes arrived in the "
+              "stall, the ring holds 63)\n",
+              kStall_ms, answered, kCommands, overruns, arrived_in_stall);
+  EXPECT_EQ(rig.sim.measurements().uart_rx_dropped, simavr_dropped) << "every byte reached the firmware";
+  // the stall counts kStall_ms ticks from within one: it lasts kStall_ms - 1 to kStall_ms ms
+  constexpr double kBytesPerMs = 115200 / 10 / 1000.0;
+  EXPECT_GE(overruns, (kStall_ms - 1) * kBytesPerMs - 63 - 1);
+  EXPECT_LE(overruns, arrived_in_stall - 63 + 1);
+  EXPECT_LE(answered, kCommands - overruns / 8) << "each lost byte costs the command it was in";
+  EXPECT_EQ(rig.state(), core::ArmState::running);
+  // the counter holds (nothing more lost), and the link answers
+  EXPECT_EQ(flood(false), kCommands);
+  EXPECT_EQ(rig.last().rx_overruns, overruns);
 }
 
 // A settings block of version 1 (before pot_calibrated, when no command could set a

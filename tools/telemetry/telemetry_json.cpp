@@ -89,6 +89,7 @@ void add_state(Object& o, const protocol::StateMsg& m) {
   o.num("rx_crc_errors", m.rx_crc_errors);
   o.num("rx_framing_errors", m.rx_framing_errors);
   o.num("rx_rejected", m.rx_rejected);
+  o.num("rx_overruns", m.rx_overruns);
 }
 
 // the fields of a firmware frame; false when its payload does not decode

@@ -125,6 +125,9 @@ protocol::PotCalibrationCmd pot_calibration_from(const std::vector<std::string>&
   const double per_deg = (r2 - r1) / (a2 - a1);
   const long at_min = std::lround(r1 + (arm::q_min_deg[joint - 1] - a1) * per_deg);
   const long at_max = std::lround(r1 + (arm::q_max_deg[joint - 1] - a1) * per_deg);
+  if (per_deg < 0)  // the firmware refuses it (bad_argument): its servo works in units that rise with the angle
+    throw BadInput{"the pot's reading falls as the joint's angle rises: it is wired reversed, swap its two outer wires "
+                   "(docs/arm-guide.md) and read it again"};
   if (at_min < 0 || at_max > kMaxReading_counts_x16 || at_max <= at_min) {
     throw BadInput{"the limits' readings come out at " + std::to_string(at_min) + " and " + std::to_string(at_max) +
                    ": outside 0.." + std::to_string(kMaxReading_counts_x16) + " or the wrong way round (check the pot's wiring)"};
