@@ -123,6 +123,34 @@ static_assert(usable_pwm(kBridgeJ2.left) && usable_pwm(kBridgeJ2.right) && usabl
               "channel A of Timers 0 and 2 is their TOP register, not a PWM output");
 static_assert(on(kGripperServo, Timer::t1), "the gripper servo shares Timer1 with the system tick");
 static_assert(!same_pin(kSafetyButton, kJoystickButton), "two buttons on one pin");
+// every digital pin above once, each a bit of its port (a J6 without a high switch has none)
+constexpr Pin kDigitalPins[] = {
+    kStepperJ1.enable,      kStepperJ1.dir,          kStepperJ1.step.pin,     kStepperJ5.enable,       kStepperJ5.dir,
+    kStepperJ5.step.pin,    kStepperJ6.enable,       kStepperJ6.dir,          kStepperJ6.step.pin,     kBridgeJ2.left.pin,
+    kBridgeJ2.right.pin,    kBridgeJ3.left.pin,      kBridgeJ3.right.pin,     kBridgeJ4.left.pin,      kBridgeJ4.right.pin,
+    kLimits[0].low,         kLimits[0].high,         kLimits[1].low,          kLimits[1].high,         kLimits[2].low,
+    kLimits[2].high,        kLimits[3].low,          kLimits[3].high,         kLimits[4].low,          kLimits[4].high,
+    kLimits[5].low,         kLimits[5].high,         kJoystickButton,         kSafetyButton,           kGripperServo.pin,
+    kTimingProbe};
+constexpr uint8_t kFirstLimitPin = 15;  // kLimits' pins in kDigitalPins, low and high per joint
+constexpr bool unused_pin(uint8_t i) {
+  return i >= kFirstLimitPin && i < kFirstLimitPin + 2 * kJoints && (i - kFirstLimitPin) % 2 == 1 &&
+         !kLimits[(i - kFirstLimitPin) / 2].has_high;
+}
+constexpr bool pins_distinct() {
+  for (uint8_t i = 0; i < sizeof kDigitalPins / sizeof kDigitalPins[0]; ++i) {
+    if (unused_pin(i)) continue;
+    if (kDigitalPins[i].bit > 7) return false;
+    for (uint8_t k = 0; k < i; ++k)
+      if (!unused_pin(k) && same_pin(kDigitalPins[i], kDigitalPins[k])) return false;
+  }
+  return true;
+}
+static_assert(pins_distinct(), "board pins: each pin (port and bit 0..7) used by one signal only");
+static_assert(kAdcJoystickX != kAdcJoystickY && kAdcPotJ2 != kAdcPotJ3 && kAdcPotJ2 != kAdcPotJ4 && kAdcPotJ3 != kAdcPotJ4 &&
+                  kAdcJoystickX != kAdcPotJ2 && kAdcJoystickX != kAdcPotJ3 && kAdcJoystickX != kAdcPotJ4 &&
+                  kAdcJoystickY != kAdcPotJ2 && kAdcJoystickY != kAdcPotJ3 && kAdcJoystickY != kAdcPotJ4,
+              "board analog inputs: each channel read for one signal only");
 static_assert(kAdcJoystickX < 8 && kAdcJoystickY < 8 && kAdcPotJ2 < 8 && kAdcPotJ3 < 8 && kAdcPotJ4 < 8,
               "analog inputs on A0..A7 (one ADC mux bank, and what simavr models)");
 

@@ -22,6 +22,7 @@
 #include "drivers/inputs.h"
 #include "drivers/steppers.h"
 #include "drivers/system_tick.h"
+#include "drivers/uart.h"
 #include "kinematics/forward_kinematics.h"
 #include "wmra_mega/board.h"
 
@@ -147,6 +148,13 @@ constexpr DcFeedforward kDcFeedforward[3] = {
 constexpr uint16_t kHomingSwitch[3] = {1u << 1, 1u << 8, inputs::kJ6ZeroSwitch};  // J1 high, J5 low, J6 zero
 constexpr uint16_t kSwitchesArmedHoming = kSwitchesArmed & ~(1u << 1) & ~(1u << 8);
 static_assert(kHomingDir[0] > 0 && kHomingDir[1] < 0, "J1 homes to its high switch, J5 to its low one");
+constexpr bool stepper_speeds_ok(uint8_t i) {
+  return kHomingFast_crad_s[i] <= kJointSpeedLimit_crad_s[kStepperJoint[i]] &&
+         steps_per_s(i, kJointSpeedLimit_crad_s[kStepperJoint[i]]) * kStepMinInterval_ticks < 250000;
+}
+static_assert(stepper_speeds_ok(0) && stepper_speeds_ok(1) && stepper_speeds_ok(2),
+              "kHomingFast_crad_s at most the joint's kJointSpeedLimit_crad_s, and that limit within the fastest "
+              "step (kStepMinInterval_ticks of 4 us) at kStepsPerJointTurn");
 
 // --- the periodic jobs' schedule
 // Every periodic job of the running loop has a fixed phase of one counter, g_phase, which
@@ -439,6 +447,12 @@ WMRA_COLD void stop_drives_at_switches() {
 constexpr int32_t kMaxCorrection = (int32_t)(kDriftMaxCorrection_mm_s / 1000.0 * core::kRealPerRad);
 constexpr int32_t kMaxCorrectedError = kDriftGain_per_s > 0 ? kMaxCorrection / kDriftGain_per_s : 0;
 static_assert(kMaxCorrectedError < 65536, "the drift correction's error within its clamp fits 16 bits");
+static_assert(kDriftMaxCorrection_mm_s * 3 * kMaxHandSpeed_m_s.den <= kMaxHandSpeed_m_s.num * 1000,
+              "kDriftMaxCorrection_mm_s at most a third of kMaxHandSpeed_m_s: a larger correction bends the hand's line");
+// the link reads at most kMaxRxBytesPerTick a tick: at least what the line brings (10 bits a
+// byte), or the receive ring overflows under a steady stream; more than the ring holds is moot
+static_assert(kMaxRxBytesPerTick * 10ul * kLoopHz > board::kSerialBaud && kMaxRxBytesPerTick <= uart::kRxBytes,
+              "kMaxRxBytesPerTick: above the serial line's bytes per tick, at most the receive ring's size");
 fx::Real drift_correction(int32_t error) {
   if (error > kMaxCorrectedError) return fx::Real{kDriftGain_per_s > 0 ? kMaxCorrection : 0};
   if (error < -kMaxCorrectedError) return fx::Real{kDriftGain_per_s > 0 ? -kMaxCorrection : 0};
@@ -777,6 +791,18 @@ constexpr core::DcServoConfig dc_servo_config(uint8_t d) {
       permille_q15(kDcMovingFrictionDuty_permille)};
 }
 constexpr core::DcServoConfig kDcServoConfig[3] = {dc_servo_config(0), dc_servo_config(1), dc_servo_config(2)};
+// configure() refuses what these refuse, at boot, and leaves that joint without its servo
+constexpr bool dc_servo_ok(uint8_t d) {
+  return control::pid_gains(kDcKp[d], kDcKi_per_s[d], kDcKd_s[d], kLoopHz, kPositionUnitsPerCount).ok &&
+         control::pid_check(kDcServoConfig[d].pid) == control::PidStatus::ok &&
+         control::relay_check(kDcServoConfig[d].relay) == control::RelayStatus::ok &&
+         control::plausibility_check(kDcServoConfig[d].checks) == control::PlausibilityStatus::ok &&
+         core::dc_servo_limits_ok(kDcServoConfig[d]);
+}
+static_assert(dc_servo_ok(0) && dc_servo_ok(1) && dc_servo_ok(2),
+              "kDcKp, kDcKi_per_s, kDcKd_s: each gain fits its 16-bit format at kPositionUnitsPerCount (Kp Q4, Ki Q8 "
+              "per tick, Kd per tick: pid.h's pid_gains), and the DC servos' limits pass pid_check, relay_check, "
+              "plausibility_check");
 
 // a lag of `mrad` in pot units, from the calibration's pot units over Angle counts (integers,
 // like PotMap::make; Q24 counts per mrad): floor(units mrad K / counts / 2^24) =

@@ -55,17 +55,42 @@ constexpr uint16_t kGripperMax_us = 2000;
 constexpr uint16_t kGripperStart_us = 1500;
 constexpr uint16_t kGripperRate_us_per_s = 500;
 
-static_assert(kLoopHz == 1000, "the loop's constants (ramps, gains per tick) assume 1 kHz");
-static_assert(kStickDeadZone_permille >= 0 && kStickDeadZone_permille < 200, "dead zone below 20 %");
+static_assert(kLoopHz == 1000, "kLoopHz == 1000: the loop's constants (ramps, gains per tick) assume 1 kHz");
+static_assert(kStickDeadZone_permille >= 0 && kStickDeadZone_permille < 200, "kStickDeadZone_permille in [0, 200): a dead zone below 20 % of the stick");
 static_assert((kStickStoredCentreTolerance_counts + 1 + 2) * 1000 <= kStickDeadZone_permille * kStickFullDeflection_counts,
-              "a stick released after a calibration at the stored centre's tolerance reads inside the dead zone");
-static_assert(kStickExpo_permille >= 0 && kStickExpo_permille <= 1000, "expo in [0, 1]");
-static_assert(kStickRise_ms >= 50 && kStickFall_ms >= 20, "the stick's velocity ramps: no step changes");
-static_assert(kButtonDebounce_ms >= 5 && kButtonLongPress_ms > kButtonDebounce_ms, "button times");
-static_assert(kDriftGain_per_s >= 0 && kDriftGain_per_s <= 50, "drift gain in [0, 50] /s");
+              "kStickStoredCentreTolerance_counts: a stick released after a calibration at the stored centre's tolerance reads inside the dead zone");
+static_assert(kStickRailMargin_counts >= 1 && kStickRailMargin_counts + kStickFullDeflection_counts < 1023 / 2,
+              "kStickRailMargin_counts: at least a count, and a full stick at the nominal centre reads outside it "
+              "(else every full push is a rail fault)");
+static_assert((1023 / 2 - kStickCentreTolerance_counts - kStickRailMargin_counts) * 10 >= 9 * kStickFullDeflection_counts,
+              "kStickCentreTolerance_counts: a centre at the tolerance leaves at least 90 % of a full stick before the "
+              "rail margin");
+static_assert(kStickRailTicks >= 1 && kStickRailTicks <= 20,
+              "kStickRailTicks in [1, 20] ticks: a broken wire reads as a pushed stick until it is a rail fault");
+static_assert(kStickCalibrationSamples >= 4 && kStickCalibrationSamples <= 64,
+              "kStickCalibrationSamples in [4, 64]: fewer average no noise out, more overflow the 16-bit sum of readings");
+static_assert(kStickCalibrationSpread_counts >= 4 &&
+                  kStickCalibrationSpread_counts * 1000 / 2 < kStickDeadZone_permille * kStickFullDeflection_counts,
+              "kStickCalibrationSpread_counts: at least the ADC noise's spread (4 counts, or a centre is never taken), "
+              "and half of it (the mean's distance from a released stick) inside the dead zone");
+static_assert(kStickNeutral_ms >= 20 && kStickNeutral_ms <= 2000,
+              "kStickNeutral_ms in [20, 2000]: a stick passing through the centre must not arm it, a person waits for it");
+static_assert(kMaxRxBytesPerTick >= 1, "kMaxRxBytesPerTick: the link must read (its lower bound is in arm_control.cpp)");
+static_assert(kLongPressWhileRunning == LongPress::none || kLongPressWhileRunning == LongPress::go_to_stored_pose_0,
+              "kLongPressWhileRunning: one of LongPress's values");
+static_assert(kDriftMaxCorrection_mm_s > 0,
+              "kDriftMaxCorrection_mm_s > 0: 0 leaves the drift uncorrected (its bound by the hand's speed is in "
+              "arm_control.cpp)");
+static_assert(kGripperRate_us_per_s >= 50 && kGripperRate_us_per_s <= 2 * (kGripperMax_us - kGripperMin_us),
+              "kGripperRate_us_per_s: at least 50 us/s, at most the servo's whole range in 0.5 s (it cannot follow "
+              "faster)");
+static_assert(kStickExpo_permille >= 0 && kStickExpo_permille <= 1000, "kStickExpo_permille in [0, 1000]: the response curve is monotone for an expo in [0, 1]");
+static_assert(kStickRise_ms >= 50 && kStickFall_ms >= 20, "kStickRise_ms >= 50, kStickFall_ms >= 20: the stick's velocity ramps, no step changes");
+static_assert(kButtonDebounce_ms >= 5 && kButtonLongPress_ms > kButtonDebounce_ms, "kButtonDebounce_ms >= 5 (a bounce), kButtonLongPress_ms above it");
+static_assert(kDriftGain_per_s >= 0 && kDriftGain_per_s <= 50, "kDriftGain_per_s in [0, 50] /s");
 static_assert(kGripperMin_us >= 500 && kGripperMax_us <= 2500 && kGripperMin_us < kGripperMax_us &&
                   kGripperStart_us >= kGripperMin_us && kGripperStart_us <= kGripperMax_us,
-              "servo pulses within 0.5..2.5 ms");
+              "kGripperMin_us, kGripperMax_us, kGripperStart_us: servo pulses within 0.5..2.5 ms, min < start < max");
 
 }  // namespace config
 }  // namespace wmra

@@ -33,10 +33,24 @@ constexpr int16_t kDcGear_tenths[3] = {45, 25, 20};
 // no effort against gravity, only lifting does (and at rest the joint holds unpowered).
 constexpr bool kDcSelfLocking = true;
 
+constexpr bool link_centres_ok() {
+  for (int i = 0; i < 3; ++i)
+    if (kLinkCentre[i].mass_g <= 0 || kLinkCentre[i].mass_g > 10000 || kLinkCentre[i].x_mm < -500 ||
+        kLinkCentre[i].x_mm > 500 || kLinkCentre[i].y_mm < -500 || kLinkCentre[i].y_mm > 500)
+      return false;
+  return true;
+}
+static_assert(link_centres_ok(),
+              "kLinkCentre: each link's mass in (0, 10] kg and its centre within 0.5 m of its joint (a link's own "
+              "length; the holding efforts' sum below full duty is checked in core/gravity.h)");
+static_assert(kLink5Mass_g > 0 && kLink5Mass_g <= 10000 && kLink5CentreY_mm >= -300 && kLink5CentreY_mm <= 300,
+              "kLink5Mass_g in (0, 10] kg, kLink5CentreY_mm within 0.3 m of the wrist");
 static_assert(kPayloadMass_g >= 0 && kPayloadMass_g <= 3000 && kPayloadOffset_mm >= 0 && kPayloadOffset_mm <= 300,
-              "payload: 0..3 kg, 0..300 mm beyond the frame-6 origin");
+              "kPayloadMass_g in [0, 3000], kPayloadOffset_mm in [0, 300] beyond the frame-6 origin");
 static_assert(kDcStallTorque_cNm > 0 && kDcGear_tenths[0] >= 10 && kDcGear_tenths[1] >= 10 && kDcGear_tenths[2] >= 10,
-              "a DC drive's stall torque and its joint gear (a reduction)");
+              "kDcStallTorque_cNm > 0, kDcGear_tenths >= 10 (a reduction)");
+static_assert(kDcStallTorque_cNm <= 10000 && kDcGear_tenths[0] <= 1000 && kDcGear_tenths[1] <= 1000 && kDcGear_tenths[2] <= 1000,
+              "kDcStallTorque_cNm at most 100 N m, kDcGear_tenths at most 100:1 (a typo by a factor of ten)");
 
 }  // namespace config
 }  // namespace wmra

@@ -47,9 +47,9 @@ constexpr bool ready_pose_inside_limits(int j) {
   return j == 6 || (kReadyPose_deg[j] >= arm::q_min_deg[j] + 5 && kReadyPose_deg[j] <= arm::q_max_deg[j] - 5 &&
                     ready_pose_inside_limits(j + 1));
 }
-static_assert(ready_pose_inside_limits(0), "the ready pose: every joint at least 5 deg inside its limits (SPEC 4)");
-static_assert(kReadyPose_deg[4] > -85 && kReadyPose_deg[4] < 85, "the ready pose is off the singular J5 = +-90 deg");
-static_assert(kReadyPose_deg[2] < -5 || kReadyPose_deg[2] > 5, "the ready pose is off the singular sin q3 = 0");
+static_assert(ready_pose_inside_limits(0), "kReadyPose_deg: every joint at least 5 deg inside its limits (SPEC 4)");
+static_assert(kReadyPose_deg[4] > -85 && kReadyPose_deg[4] < 85, "kReadyPose_deg: off the singular J5 = +-90 deg");
+static_assert(kReadyPose_deg[2] < -5 || kReadyPose_deg[2] > 5, "kReadyPose_deg: off the singular sin q3 = 0");
 // joint-space moves (to the ready pose, to a stored pose): this fraction of each joint's limit
 constexpr Ratio kJointMoveSpeed{1, 2};
 constexpr int16_t kArrivedTolerance_mdeg = 1000;  // DC joints; steppers arrive exactly
@@ -150,11 +150,11 @@ constexpr int16_t kTrackingStopAt_mrad = 50;
 constexpr int16_t kTrackingFault_mrad = 250;
 
 // --- checks
-static_assert(kStepMinInterval_ticks >= 12, "at most 20.8 kHz per stepper");
+static_assert(kStepMinInterval_ticks >= 12, "kStepMinInterval_ticks >= 12: at most 20.8 kHz per stepper");
 static_assert(kStepMaxInterval_ticks > kStepMinInterval_ticks && kStepMaxInterval_ticks <= 25000,
-              "the slowest step between the fastest and 10 steps/s (a command waits at most 100 ms)");
+              "kStepMaxInterval_ticks: the slowest step between the fastest and 10 steps/s (a command waits at most 100 ms)");
 static_assert(kStepperPositionGain_per_s * (uint32_t)kStepMaxInterval_ticks >= 250000ul,
-              "one step of error must ask for at least the slowest step, or the loop stops short of it");
+              "kStepperPositionGain_per_s x kStepMaxInterval_ticks: one step of error must ask for at least the slowest step, or the loop stops short of it");
 constexpr bool stepper_config_ok() {
   for (int i = 0; i < 3; ++i) {
     if (kStepperAccel_crad_s2[i] <= 0 || kStepperAccel_crad_s2[i] > 2000) return false;
@@ -168,42 +168,116 @@ constexpr bool stepper_config_ok() {
   }
   return true;
 }
-static_assert(stepper_config_ok(), "stepper accelerations in (0, 20] rad/s^2, homing speeds in (0, 0.5] rad/s, slow <= fast");
-static_assert(kStepperPositionGain_per_s > 0 && kStepperPositionGain_per_s <= 100, "stepper position gain in (0, 100] /s");
+static_assert(stepper_config_ok(), "kStepperAccel_crad_s2 in (0, 2000], kHomingFast_crad_s in (0, 50], kHomingSlow_crad_s in (0, fast] and not below the slowest step, kHomingBackOff_deg in [1, 20], kHomingMaxTravel_deg >= 90, kHomingDir +-1");
+// the stepper joints' indices among J1..J6 (arm::q_min_deg, q_max_deg)
+constexpr int kStepperJointIndex[3] = {0, 4, 5};
+constexpr int16_t largest_angle_deg(int j) { return -arm::q_min_deg[j] > arm::q_max_deg[j] ? -arm::q_min_deg[j] : arm::q_max_deg[j]; }
+constexpr bool stepper_steps_ok() {
+  for (int i = 0; i < 3; ++i)
+    if (kStepsPerJointTurn[i] < 200 || kStepsPerJointTurn[i] * largest_angle_deg(kStepperJointIndex[i]) / 360 >= 65536ul)
+      return false;
+  return true;
+}
+static_assert(stepper_steps_ok(),
+              "kStepsPerJointTurn: at least a full-step motor's 200, and every angle of the joint's range within "
+              "2^16 steps of zero (core/joint_map.h's StepperMap)");
+constexpr bool home_switches_ok() {
+  for (int i = 0; i < 3; ++i)
+    if (kHomeSwitch_deg[i] < arm::q_min_deg[kStepperJointIndex[i]] || kHomeSwitch_deg[i] > arm::q_max_deg[kStepperJointIndex[i]])
+      return false;
+  return true;
+}
+static_assert(home_switches_ok(), "kHomeSwitch_deg: each switch within its joint's range (arm_model.h)");
+// J1 and J5 home to a switch 3 deg before their hard stop: the fast approach runs on for the
+// switch's delay before it is seen, then brakes at the ramp's acceleration (J6's zero switch has
+// no stop behind it)
+constexpr bool homing_stops_before_hard_stop(int i) {
+  return kHomingFast_crad_s[i] / 100.0 * kSwitchDelay_ms / 1000.0 +
+             (kHomingFast_crad_s[i] / 100.0) * (kHomingFast_crad_s[i] / 100.0) / (2 * kStepperAccel_crad_s2[i] / 100.0) <
+         3 * 3.14159265 / 180;
+}
+static_assert(homing_stops_before_hard_stop(0) && homing_stops_before_hard_stop(1),
+              "kHomingFast_crad_s: J1's and J5's fast approach (the switch's delay, then braking at "
+              "kStepperAccel_crad_s2) must stop within the 3 deg between the switch and the hard stop");
+constexpr bool switch_delay_ok() {
+  for (int i = 0; i < 3; ++i)
+    if (kHomingSlow_crad_s[i] / 100.0 * kSwitchDelay_ms / 1000.0 >= kHomingBackOff_deg[i] * 3.14159265 / 180) return false;
+  return true;
+}
+static_assert(kSwitchDelay_ms >= 0 && kSwitchDelay_ms <= 500 && switch_delay_ok(),
+              "kSwitchDelay_ms in [0, 500], and the slow approach's travel in it shorter than the back-off (the "
+              "switch closes again within the back-off)");
+static_assert(kJointMoveSpeed.num > 0 && kJointMoveSpeed.num <= kJointMoveSpeed.den,
+              "kJointMoveSpeed in (0, 1] of each joint's speed limit");
+// a DC servo parks within kDcParkBand_counts: a move's tolerance below that (the nominal pot span
+// over the widest DC joint, J4's 320 deg) might never count as arrived
+constexpr double kWidestDcJointDegPerCount =
+    (arm::q_max_deg[3] - arm::q_min_deg[3]) / ((kPotAtMax_mV - kPotAtMin_mV) * 1023.0 / kAdcRef_mV);
+static_assert(kArrivedTolerance_mdeg >= kDcParkBand_counts * kWidestDcJointDegPerCount * 1000 && kArrivedTolerance_mdeg <= 5000,
+              "kArrivedTolerance_mdeg: at least the DC servos' parking band in the coarsest joint's degrees, at most "
+              "5 deg (a move that ends further off has not arrived)");
+static_assert(kPositionUnitsPerCount >= 1, "kPositionUnitsPerCount >= 1 (its upper bound, 16 bits, is in arm_control.cpp)");
+constexpr bool dc_gains_ok() {
+  for (int d = 0; d < 3; ++d)
+    if (kDcKp[d].num < 0 || kDcKp[d].den <= 0 || kDcKi_per_s[d].num < 0 || kDcKi_per_s[d].den <= 0 || kDcKd_s[d].num < 0 ||
+        kDcKd_s[d].den <= 0)
+      return false;
+  return true;
+}
+static_assert(dc_gains_ok(),
+              "kDcKp, kDcKi_per_s, kDcKd_s: non-negative, positive denominators (their fit in the PID's formats is "
+              "checked in arm_control.cpp)");
+static_assert(kRelayDeadZone_counts >= 1 && kRelayDeadZone_counts <= 20,
+              "kRelayDeadZone_counts in [1, 20]: without a dead zone the relay chatters around its target");
+static_assert(kRelayDuty_permille > kDcMinDuty_permille && kRelayDuty_permille <= 1000,
+              "kRelayDuty_permille: above the stiction's kDcMinDuty_permille (or the relay never moves the joint), at "
+              "most full duty");
+static_assert(kStallDuty_permille > kDcMinDuty_permille && kStallDuty_permille <= 1000,
+              "kStallDuty_permille: above the stiction's duty (a slow joint is no stall), at most full duty");
+static_assert(kStallTime_ms <= 1000 && kSignGrace_ms > 0 && kSignGrace_ms <= 1000,
+              "kStallTime_ms at most 1 s (a jammed motor draws its stall current meanwhile), kSignGrace_ms in (0, 1] s "
+              "(a drive wired backwards runs away meanwhile)");
+static_assert(kRailMargin_counts < (int32_t)kPotAtMin_mV * 1023 / kAdcRef_mV &&
+                  kRailMargin_counts < (int32_t)(kAdcRef_mV - kPotAtMax_mV) * 1023 / kAdcRef_mV,
+              "kRailMargin_counts: a pot at either end of its joint's range reads outside the rail margin (or the "
+              "joint's end is a wiring fault)");
+static_assert(kDcParkBand_counts <= 64 && kRailTime_ms <= 255,
+              "kDcParkBand_counts at most 64 counts, kRailTime_ms fits its 8-bit counter");
+static_assert(kStepperPositionGain_per_s > 0 && kStepperPositionGain_per_s <= 100, "kStepperPositionGain_per_s in (0, 100] /s");
 static_assert(kPotAtMin_mV > 100 && kPotAtMax_mV < kAdcRef_mV - 100 && kPotAtMin_mV < kPotAtMax_mV,
-              "the pot range must leave both rails for fault detection");
-static_assert(kDcDutyReserve_permille >= 0 && kDcDutyReserve_permille <= 500, "the duty reserve for the PID: 0..50 %");
+              "kPotAtMin_mV, kPotAtMax_mV: the pot range must leave both rails (100 mV) for fault detection");
+static_assert(kDcDutyReserve_permille >= 0 && kDcDutyReserve_permille <= 500, "kDcDutyReserve_permille in [0, 500]: the duty reserve for the PID");
 static_assert(kDcRampTime_ms > 0 && kDcMinDuty_permille >= 0 && kDcMinDuty_permille < 500 && kDcZeroBand_permille >= 0,
-              "DC duty shaping");
+              "kDcRampTime_ms > 0, kDcMinDuty_permille in [0, 500), kDcZeroBand_permille >= 0");
 static_assert(kDcMovingFrictionDuty_permille >= 0 && kDcMovingFrictionDuty_permille <= kDcMinDuty_permille,
-              "the moving friction's duty at most the breakaway's");
+              "kDcMovingFrictionDuty_permille in [0, kDcMinDuty_permille]: the moving friction's duty at most the breakaway's");
 static_assert(kDcParkBand_counts >= 1 && kDcParkTime_ms > 0 && kDcUnparkTime_ms > 0 && kDcUnparkTime_ms <= 100,
-              "parking: a band of at least a count, left after at most 100 ms out of it");
+              "kDcParkBand_counts >= 1, kDcParkTime_ms > 0, kDcUnparkTime_ms in (0, 100]");
 static_assert(kDcFullDutySpeed_crad_s[0] >= 100 && kDcFullDutySpeed_crad_s[1] >= 100 && kDcFullDutySpeed_crad_s[2] >= 100 &&
                   kDcFullDutySpeed_crad_s[0] <= 2000 && kDcFullDutySpeed_crad_s[1] <= 2000 &&
                   kDcFullDutySpeed_crad_s[2] <= 2000,
-              "DC joint speeds at full duty in [1, 20] rad/s");
+              "kDcFullDutySpeed_crad_s in [100, 2000]: [1, 20] rad/s");
 static_assert(kDcInertiaAtWorm_gm2[0] > 0 && kDcInertiaAtWorm_gm2[1] > 0 && kDcInertiaAtWorm_gm2[2] > 0 &&
                   kDcInertiaAtWorm_gm2[0] <= 1000 && kDcInertiaAtWorm_gm2[1] <= 1000 && kDcInertiaAtWorm_gm2[2] <= 1000,
-              "DC inertia at the worm in (0, 1] kg m^2");
+              "kDcInertiaAtWorm_gm2 in (0, 1000]: (0, 1] kg m^2");
 static_assert(kDcRotorInertiaAtWorm_gm2 > 0 && kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[0] &&
                   kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[1] && kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[2],
-              "the rotor's inertia is part of each drive's");
+              "kDcRotorInertiaAtWorm_gm2 in (0, kDcInertiaAtWorm_gm2]: the rotor's inertia is part of each drive's");
 static_assert(kDrivePeriod_ticks >= 1 && kDrivePeriod_ticks <= 4 && kDriveSlot < kDrivePeriod_ticks &&
                   kMotionSlot < kDrivePeriod_ticks && kDriveSlot != kMotionSlot,
-              "the drives' loops and the motion pass run every 1 to 4 ticks, each in a slot of its own");
+              "kDrivePeriod_ticks in [1, 4], kDriveSlot != kMotionSlot, both below it");
 static_assert(kStepperPeriod_ticks % kDrivePeriod_ticks == 0 && kStepperSlot < kStepperPeriod_ticks &&
                   kStepperSlot % kDrivePeriod_ticks == kDriveSlot,
-              "the steppers' tracking and ramps in the drives' slot, every so many of its ticks");
+              "kStepperPeriod_ticks a multiple of kDrivePeriod_ticks, kStepperSlot in the drives' slot");
 static_assert(kDcUnparkTime_ms >= 2 * kDrivePeriod_ticks,
-              "a parked servo counts a noisy reading as its whole period: unparking takes at least two");
-static_assert(kDcStandingSpeed_mrad_s > 0 && kDcStandingSpeed_mrad_s <= 50, "DC standing speed in (0, 50] mrad/s");
+              "kDcUnparkTime_ms >= 2 kDrivePeriod_ticks: a parked servo counts a noisy reading as its whole period");
+static_assert(kDcStandingSpeed_mrad_s > 0 && kDcStandingSpeed_mrad_s <= 50, "kDcStandingSpeed_mrad_s in (0, 50]");
 static_assert(kTrackingSlowFrom_mrad > 0 && kTrackingSlowFrom_mrad < kTrackingStopAt_mrad &&
                   kTrackingStopAt_mrad < kTrackingFault_mrad,
-              "tracking: slow from < stop at < fault");
+              "kTrackingSlowFrom_mrad < kTrackingStopAt_mrad < kTrackingFault_mrad, all positive");
 static_assert(kStallTime_ms > 0 && kStallProgress_counts > 0 && kSignDistance_counts > 0 && kMaxStep_counts_per_ms > 0 &&
                   kRailMargin_counts > 0 && kRailTime_ms > 0,
-              "plausibility limits must be positive");
+              "kStallTime_ms, kStallProgress_counts, kSignDistance_counts, kMaxStep_counts_per_ms, kRailMargin_counts, kRailTime_ms: positive");
 
 }  // namespace config
 }  // namespace wmra

@@ -17,8 +17,17 @@ constexpr uint8_t kModeCount = sizeof(kModeCycle) / sizeof(kModeCycle[0]);
 constexpr int8_t kStickXSign = 1;
 constexpr int8_t kStickYSign = 1;
 
-static_assert(kModeCount >= 1 && kModeCount <= 8, "one to eight modes in the cycle");
-static_assert((kStickXSign == 1 || kStickXSign == -1) && (kStickYSign == 1 || kStickYSign == -1), "signs are +-1");
+static_assert(kModeCount >= 1 && kModeCount <= 8, "kModeCycle: one to eight modes");
+constexpr bool modes_each_once() {
+  for (uint8_t i = 0; i < kModeCount; ++i) {
+    if ((uint8_t)kModeCycle[i] > (uint8_t)Mode::gripper) return false;
+    for (uint8_t k = 0; k < i; ++k)
+      if (kModeCycle[k] == kModeCycle[i]) return false;
+  }
+  return true;
+}
+static_assert(modes_each_once(), "kModeCycle: each entry a Mode, each mode once (a repeat is a press that seems to do nothing)");
+static_assert((kStickXSign == 1 || kStickXSign == -1) && (kStickYSign == 1 || kStickYSign == -1), "kStickXSign, kStickYSign: +1 or -1");
 
 }  // namespace config
 }  // namespace wmra

@@ -29,23 +29,23 @@ constexpr int16_t kSoftLimitMargin_deg = 3;
 constexpr int16_t kSoftLimitZone_deg = 12;
 
 static_assert(kMaxHandSpeed_m_s.num > 0 && kMaxHandSpeed_m_s.num * 100 <= 30 * kMaxHandSpeed_m_s.den,
-              "hand speed in (0, 0.3] m/s");
+              "kMaxHandSpeed_m_s in (0, 0.3] m/s");
 static_assert(kMaxWristSpeed_rad_s.num > 0 && kMaxWristSpeed_rad_s.num <= 2 * kMaxWristSpeed_rad_s.den,
-              "wrist speed in (0, 2] rad/s");
+              "kMaxWristSpeed_rad_s in (0, 2] rad/s");
 constexpr bool joint_speeds_in_range() {
   for (int j = 0; j < 6; ++j)
     if (kJointSpeedLimit_crad_s[j] <= 0 || kJointSpeedLimit_crad_s[j] > 300) return false;
   return true;
 }
-static_assert(joint_speeds_in_range(), "joint speed limits in (0, 3] rad/s");
+static_assert(joint_speeds_in_range(), "kJointSpeedLimit_crad_s in (0, 300]: (0, 3] rad/s");
 constexpr bool joint_accels_in_range() {
   for (int j = 0; j < 6; ++j)
     if (kJointAccelLimit_crad_s2[j] < 10 || kJointAccelLimit_crad_s2[j] > 2000) return false;
   return true;
 }
-static_assert(joint_accels_in_range(), "joint acceleration limits in [0.1, 20] rad/s^2");
-static_assert(kSoftLimitMargin_deg >= 1 && kSoftLimitMargin_deg <= 10, "soft-limit margin in [1, 10] deg");
-static_assert(kSoftLimitZone_deg >= 2 && kSoftLimitZone_deg <= 30, "soft-limit zone in [2, 30] deg");
+static_assert(joint_accels_in_range(), "kJointAccelLimit_crad_s2 in [10, 2000]: [0.1, 20] rad/s^2");
+static_assert(kSoftLimitMargin_deg >= 1 && kSoftLimitMargin_deg <= 10, "kSoftLimitMargin_deg in [1, 10] deg");
+static_assert(kSoftLimitZone_deg >= 2 && kSoftLimitZone_deg <= 30, "kSoftLimitZone_deg in [2, 30] deg");
 
 }  // namespace config
 }  // namespace wmra

@@ -47,6 +47,13 @@ struct DcServoConfig {
   int16_t moving_friction_q15;  // the duty the worm's friction takes while the joint moves, [0, pid.min_duty]
 };
 
+// the servo's own limits, beyond its PID's, relay's and checks' (pid_check, relay_check,
+// plausibility_check): with those, what configure() accepts, for a static_assert on a constant one
+constexpr bool dc_servo_limits_ok(const DcServoConfig& c) {
+  return c.park_units >= 0 && c.park_units <= 16383 && c.moving_friction_q15 >= 0 && c.moving_friction_q15 <= c.pid.min_duty_q15 &&
+         c.moving_friction_q15 <= c.pid.out_max_q15 / 2;
+}
+
 class DcServo {
  public:
   // (at start-up only: built for size, 1 KB at the firmware's -O3)
@@ -57,9 +64,7 @@ class DcServo {
     unpark_ticks_ = c.unpark_ticks;
     moving_friction_q15_ = c.moving_friction_q15;
     const bool ok = pid_.configure(c.pid) == control::PidStatus::ok && relay_.configure(c.relay) == control::RelayStatus::ok &&
-           checks_.configure(c.checks) == control::PlausibilityStatus::ok && c.park_units >= 0 &&
-           c.park_units <= 16383 && c.moving_friction_q15 >= 0 && c.moving_friction_q15 <= c.pid.min_duty_q15 &&
-           c.moving_friction_q15 <= c.pid.out_max_q15 / 2;
+           checks_.configure(c.checks) == control::PlausibilityStatus::ok && dc_servo_limits_ok(c);
     breakaway_slope_q15_ = pid_.moving_slope_q15(pid_.config().min_duty_q15);
     moving_slope_q15_ = pid_.moving_slope_q15(moving_friction_q15_);
     // 1 / slope - 1 in Q16, rounded down (the slope is above a half: a friction of at most half
