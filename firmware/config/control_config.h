@@ -14,17 +14,21 @@ constexpr uint8_t kMaxRxBytesPerTick = 32;     // serial bytes parsed per tick (
 constexpr uint16_t kStickRailMargin_counts = 20;
 // the stick's travel: the KY-023 through the board's amplifiers swings +-2.25 V (460 counts)
 // around the centre; a stick that reaches 96 % of that is full (speed), beyond saturates
+constexpr uint16_t kStickTravel_counts = 460;
 constexpr uint16_t kStickFullDeflection_counts = 440;
 constexpr uint8_t kStickRailTicks = 5;
 constexpr uint8_t kStickCalibrationSamples = 16;
 constexpr uint16_t kStickCalibrationSpread_counts = 12;
-constexpr uint16_t kStickCentreTolerance_counts = 60;
+// A new board takes a power-up centre this close to mid-scale. The travel swings around the
+// stick's own centre: one further off reads at the rail margin when pushed full, a rail fault in
+// mid-motion (at 60 counts a full push did). 30 counts are 0.15 V, 7 % of a full stick.
+constexpr uint16_t kStickCentreTolerance_counts = 30;
 constexpr int16_t kStickDeadZone_permille = 20;  // SPEC 5: about 2 %
 // Once the stick's released centre is stored (cmd_stick_centre), a power-up centre further from
 // it than this is a hand on the stick, refused until it lets go. Released, the stick then reads
 // at most this far from the centre taken, plus 1 count that the joystick keeps a reading by
 // (axis()) and 2 of the ADC's noise (4 sigma of half a count): 8 counts, inside the dead zone's
-// 8.8 (2 % of 440), so it reads neutral. The 60 counts above are 13 % of a full stick.
+// 8.8 (2 % of 440), so it reads neutral.
 constexpr uint16_t kStickStoredCentreTolerance_counts = 5;
 constexpr int16_t kStickExpo_permille = 300;     // response curve (1 - k) r + k r^3
 constexpr uint16_t kStickRise_ms = 300;          // from rest to full deflection, at the least
@@ -62,9 +66,11 @@ static_assert((kStickStoredCentreTolerance_counts + 1 + 2) * 1000 <= kStickDeadZ
 static_assert(kStickRailMargin_counts >= 1 && kStickRailMargin_counts + kStickFullDeflection_counts < 1023 / 2,
               "kStickRailMargin_counts: at least a count, and a full stick at the nominal centre reads outside it "
               "(else every full push is a rail fault)");
-static_assert((1023 / 2 - kStickCentreTolerance_counts - kStickRailMargin_counts) * 10 >= 9 * kStickFullDeflection_counts,
-              "kStickCentreTolerance_counts: a centre at the tolerance leaves at least 90 % of a full stick before the "
-              "rail margin");
+static_assert(kStickFullDeflection_counts <= kStickTravel_counts &&
+                  1023 / 2 + kStickCentreTolerance_counts + kStickTravel_counts < 1023 - kStickRailMargin_counts &&
+                  1023 / 2 - kStickCentreTolerance_counts - kStickTravel_counts > kStickRailMargin_counts,
+              "kStickCentreTolerance_counts: a stick centred at the tolerance and pushed through its whole travel "
+              "reads inside the rail margins (else a full push is a rail fault)");
 static_assert(kStickRailTicks >= 1 && kStickRailTicks <= 20,
               "kStickRailTicks in [1, 20] ticks: a broken wire reads as a pushed stick until it is a rail fault");
 static_assert(kStickCalibrationSamples >= 4 && kStickCalibrationSamples <= 64,

@@ -77,6 +77,7 @@ struct Rig {
 
   explicit Rig(const std::string& elf, const plant::Joints& initial_q = kNearHome, bool stock_bootloader = false)
       : sim(config(elf, initial_q, stock_bootloader)) {}
+  explicit Rig(const sim::SimConfig& c) : sim(c) {}
   static sim::SimConfig config(const std::string& elf, const plant::Joints& initial_q, bool stock_bootloader) {
     sim::SimConfig c;
     c.elf = elf;

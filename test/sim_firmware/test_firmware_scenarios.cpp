@@ -9,6 +9,7 @@
 
 #include "config/control_config.h"
 #include "config/joints_config.h"
+#include "core/faults.h"
 #include "core/joint_map.h"
 #include "core/resolved_rate.h"
 #include "atmega2560.h"
@@ -454,8 +455,8 @@ TEST(FirmwareCalibration, PosesBeyondTheSoftStopsAreDropped) {
   EXPECT_NEAR(rig.sim.q()[4] * 180 / M_PI, 87.0, 0.5) << "J5 at its soft stop";
 }
 
-// The review's scenario (a hand resting on the stick 10 % off centre at power-up, inside the
-// 60 counts of mid-scale a new board accepts) with the stick's released centre stored
+// The review's scenario (a hand resting on the stick 4 % off centre at power-up: 18 counts, inside
+// the 30 of mid-scale a new board accepts) with the stick's released centre stored
 // (cmd_stick_centre): the power-up centre is refused while the stick is held, nothing moves,
 // and once it is let go the released centre is taken and the arm holds still. Without the
 // stored centre the held stick became the centre and, released, drove the hand 27 mm in 3 s.
@@ -475,9 +476,9 @@ TEST(FirmwareStick, HeldAtPowerUpIsRefusedAgainstTheStoredCentre) {
   ASSERT_EQ(ask(MsgType::cmd_stick_centre, {1}), ReplyStatus::ok) << "released: its centre stored";
   rig.run_to(rig.sim.time_s() + 1.0);  // the block written to EEPROM (3.4 ms a byte)
 
-  // a reset (a hang: the watchdog) and a hand resting on the stick 10 % off centre from then on
+  // a reset (a hang: the watchdog) and a hand resting on the stick 4 % off centre from then on
   rig.sim.send_serial(command((MsgType)0x7F, seq++));
-  rig.sim.set_joystick(0.10, 0.0);
+  rig.sim.set_joystick(0.04, 0.0);
   rig.run_to(rig.sim.time_s() + 0.3);
   ASSERT_GE(rig.telemetry.boots().size(), 2u);
   EXPECT_EQ(rig.telemetry.boots().back().calibration, (uint8_t)protocol::Calibration::eeprom);
@@ -503,13 +504,43 @@ TEST(FirmwareStick, HeldAtPowerUpIsRefusedAgainstTheStoredCentre) {
   }
   EXPECT_LT(distance_mm(rig.pose().p, start.p), 1.0) << "the released stick drives nothing";
 
-  // forgotten: a new board's check again (the held stick is within its 60 counts)
+  // forgotten: a new board's check again (the held stick is within its 30 counts)
   ASSERT_EQ(ask(MsgType::cmd_stick_centre, {0}), ReplyStatus::ok);
+}
+
+// The stick's travel swings around its own centre. One whose centre sits at the tolerance a new
+// board accepts, pushed full towards that side, reads inside the rail margins and drives the hand;
+// one further off is not taken as a centre (before, 60 counts were: 45 counts off, a full push read
+// at the rail, a rail fault in mid-motion).
+TEST(FirmwareStick, AFullPushOfAnOffCentreStickIsNoRail) {
+  const auto board_with_stick_off_by = [](double counts) {
+    sim::SimConfig c = Rig::config(kFirmware, test::kNearHome, false);
+    c.plant.stick_centre_offset_mv[0] = counts * plant::kAdcRefMv / 1024;
+    return c;
+  };
+  {
+    Rig rig(board_with_stick_off_by(config::kStickCentreTolerance_counts - 3));
+    const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+    ASSERT_GT(t_running, 0) << "a centre within the tolerance is taken";
+    const armsim::TrajectoryRow start = rig.pose();
+    rig.sim.set_joystick(1.0, 0.0);
+    for (double t = t_running; t < t_running + 1.5; t += 0.02) {
+      rig.run_to(t);
+      ASSERT_EQ(rig.last().faults & core::fault_mask(core::kFaultBitStickInvalid), 0u) << "at " << t << " s";
+    }
+    EXPECT_EQ(rig.last().stick_permille[0], 1000) << "a full stick";
+    EXPECT_GT(rig.pose().p[0] - start.p[0], 0.1) << "the hand driven along +x";
+  }
+  {
+    Rig rig(board_with_stick_off_by(45));
+    rig.run_to(6.0);
+    EXPECT_EQ(rig.state(), core::ArmState::wait_neutral) << "a centre 45 counts off is not taken";
+  }
 }
 
 // A board whose EEPROM has no stored centre (here a version 2 block, from before the stored
 // centre: it keeps its calibration) checks the power-up centre against mid-scale as before: the
-// stick held 10 % off centre is within the 60 counts, taken as the centre, and the arm runs.
+// stick held 4 % off centre is within the 30 counts, taken as the centre, and the arm runs.
 TEST(FirmwareStick, WithoutAStoredCentreTheNominalCheckAsBefore) {
   Rig rig(kFirmware);
   app::Settings settings{};
@@ -527,7 +558,7 @@ TEST(FirmwareStick, WithoutAStoredCentreTheNominalCheckAsBefore) {
   const std::vector<uint8_t> block = test::settings_block(settings, 2);
   ASSERT_EQ(block.size(), 5u + 110u + 2u);
   rig.sim.set_eeprom(block);
-  rig.sim.set_joystick(0.10, 0.0);
+  rig.sim.set_joystick(0.04, 0.0);
   const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
   ASSERT_GT(t_running, 0) << "the held stick is taken as the centre, as before";
   EXPECT_EQ(rig.telemetry.boots()[0].calibration, (uint8_t)protocol::Calibration::eeprom);
