@@ -1,13 +1,16 @@
 #include "app/arm_control.h"
 
 #include <avr/pgmspace.h>
+#include <util/atomic.h>
 
 #include "app/settings.h"
 #include "app/velocity_request.h"
 #include "config/control_config.h"
 #include "config/joints_config.h"
+#include "config/stop_config.h"
 #include "control/button.h"
 #include "control/joystick.h"
+#include "core/base_inertia.h"
 #include "core/dc_servo.h"
 #include "core/faults.h"
 #include "core/gravity.h"
@@ -90,6 +93,10 @@ constexpr control::StepRateConstants ramp_constants(uint8_t i) {
   return control::step_rate_constants(steppers::kTickHz, steppers::kServiceHz, kRampConfig[i]);
 }
 constexpr control::StepRateConstants kRampConstants[3] = {ramp_constants(0), ramp_constants(1), ramp_constants(2)};
+constexpr control::StopConstants stop_constants(uint8_t i) {
+  return control::stop_constants(steppers::kTickHz, steppers::kServiceHz, kStopDecel_steps_s2[i], (uint32_t)kStartStop_steps_s[i]);
+}
+constexpr control::StopConstants kStopConstants[3] = {stop_constants(0), stop_constants(1), stop_constants(2)};
 static_assert(kRampConstants[0].status == control::RateStatus::ok && kRampConstants[1].status == control::RateStatus::ok &&
                   kRampConstants[2].status == control::RateStatus::ok,
               "a stepper's acceleration or top speed does not fit its ramp (lib/control/step_rate.h)");
@@ -166,8 +173,8 @@ static_assert(stepper_speeds_ok(0) && stepper_speeds_ok(1) && stepper_speeds_ok(
 // same ones); the drift correction's hand position goes with the holding effort (the same trig):
 //   phase      0         1         2         3         4          5         6         7
 //   slot       drives    motion    drives    motion    drives     motion    drives    motion
-//   jobs       holding,            steppers            governor             steppers
-//              drift FK                                (every second time)
+//   jobs       holding,            steppers            governor or          steppers
+//              drift FK                                J1's stop, in turn
 // Without the motion pass (homing, a move to a pose, its brake) the holding update and the
 // governor run a tick earlier, in the idle motion slot (dc_tick).
 // The state frame (link::poll, every 20 ms after the iteration, about 6,500 cycles) keeps its
@@ -227,6 +234,8 @@ struct DcJoint {
   int16_t lag_fault_units;  // capped at 32767: a reference less a reading is at most 32,752
   int16_t holding_q15;      // the holding effort's duty at the reference pose (core::HoldingEffort)
   int16_t holding_effort_q15;  // the same as the servo's effort (through the dead-zone inverse)
+  int16_t still_units;      // where it came to rest after a stop (watch_standstill)
+  int16_t standstill_units;  // kStandstillMove_mdeg in pot units (configure_pot)
   fx::Real qd_prev;         // the reference's speed of the last dc_tick (its acceleration)
   core::PotMap pot;
 };
@@ -253,6 +262,8 @@ bool g_kept;                           // that pass ran, and the holding update 
 uint32_t g_p_hand_ms = 0u - kHandPositionAge_ms;  // and tick::now_ms() when it was (none yet: too old)
 uint32_t g_faults;            // latched
 uint16_t g_ms;
+uint16_t g_hold_ms;  // since the drives were last held (a stop), saturating
+fx::Real g_j1_stop_speed{0x7FFFFFFF};  // J1's speed from which the hand stops within kStopTravel_mm
 uint16_t g_overrun_ms;  // reported while > 0: long enough for telemetry to see one missed tick
 constexpr uint16_t kOverrunReport_ms = 500;
 bool g_homed;
@@ -270,34 +281,58 @@ bool stick_invalid(const control::JoystickOutput& stick) {
   return stick.status & (control::kJoystickRailX | control::kJoystickRailY);
 }
 
-// --- drives on and off
+// --- drives on, holding and off
 
-// A stepper that was turning when its driver went off coasts on unheld (J1, with the arm on
-// it, 18 deg past its switch after the safety button at speed): its step count no longer says
-// where it is, so the steppers are homed again before the next motion. One that was only
-// creeping, slower than it stops from within one step at its ramp's acceleration (a position
-// correction of a step or two: J1 49, J5 285, J6 90 steps/s; StepRate::stops_within_a_step),
-// keeps its count: J1 unheld slows at about 1 rad/s^2 (from 0.8 rad/s to a stop in 17 deg),
-// faster than its 0.6 rad/s^2 ramp, and J5's gear holds itself. Re-homing for a creep made a
-// stop during a steady hand motion depend on whether a stepper happened to be correcting a step
-// just then (the demo's stop in XZ: J6 correcting a step, homing again instead of running after
-// the re-arm).
+// J1's stop follows the arm's inertia about the base axis (config/stop_config.h) while the
+// pose is known; in homing, and before it, the stop's constants for the largest inertia. (With
+// interrupts off: the stop hook reads the interval.)
+void set_j1_stop(const control::StopConstants& k) {
+  ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { steppers::rate(0).configure_stop(k); }
+}
 
-WMRA_COLD void drives_off() {
-  steppers::kill();
-  steppers::count();
+// The stop (SPEC 6): the bridges brake (both sides low: the worms hold), each stepper's train
+// ends at once or ramps down at its stop's deceleration (steppers::halt_trains), its driver
+// enabled: the arm holds where it stopped and the step counts stay the joints' angles. The
+// stop hook (the safety button's and the switches' interrupts) has done the same already. The
+// DC references stand where the joints are; the standstill watch starts.
+WMRA_COLD void hold_drives() {
   bridges::all_off();
-  for (uint8_t i = 0; i < 3; ++i) {
-    steppers::Rate& r = steppers::rate(i);
-    if (!r.stops_within_a_step()) g_homed = false;
-    r.halt();
-    g_q.set(kStepperJoint[i], kStepperMap[i].angle(r.position_steps()));
-  }
+  steppers::halt_trains();
   for (uint8_t d = 0; d < 3; ++d) {
     g_servo[d].rest(g_dc[d].units);
     g_q.set(kDcJoint[d], g_dc[d].pot.angle(g_dc[d].units));
   }
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
+  g_hold_ms = 0;
+}
+
+// The steppers' drivers off (EN high): a released joint may be moved by hand or by gravity, so
+// its count is no longer its angle and the steppers are homed again before the next motion.
+WMRA_COLD void drives_off() {
+  steppers::kill();
+  bridges::all_off();
+  g_homed = false;
+}
+
+// While the arm stands (stopped, faulted, waiting for the stick): a DC joint whose pot moves
+// more than kStandstillMove_mdeg from where it came to rest is a fault (a slipping worm, a
+// broken gear); and the optional release of the steppers' drivers.
+WMRA_COLD void watch_standstill(uint8_t ticks) {
+  const uint16_t before_ms = g_hold_ms;
+  g_hold_ms = before_ms > 0xFFFFu - ticks ? 0xFFFFu : (uint16_t)(before_ms + ticks);
+  if (before_ms < kStandstillSettle_ms) {
+    if (g_hold_ms >= kStandstillSettle_ms) {
+      for (uint8_t d = 0; d < 3; ++d) g_dc[d].still_units = g_dc[d].units;
+    }
+    return;
+  }
+  for (uint8_t d = 0; d < 3; ++d) {
+    const int16_t moved = (int16_t)(g_dc[d].units - g_dc[d].still_units);
+    if (moved > g_dc[d].standstill_units || moved < -g_dc[d].standstill_units)
+      g_faults |= core::fault_mask(core::kFaultBitMovedWhileStopped);
+  }
+  if (kStepperReleaseAfterStop_ms != 0 && before_ms < kStepperReleaseAfterStop_ms && g_hold_ms >= kStepperReleaseAfterStop_ms)
+    drives_off();
 }
 
 void outputs_on() {
@@ -309,6 +344,7 @@ void outputs_on() {
 // whose change would be one tick's braking feedforward). The outputs stay off when the safety
 // button or a switch stopped the arm after this iteration read them (the next one stops).
 WMRA_COLD void drives_on() {
+  steppers::resume();
   g_governor_due = false;  // not from holding duties of before the drives went off
   for (uint8_t d = 0; d < 3; ++d) {
     g_servo[d].rest(g_dc[d].units);
@@ -431,13 +467,15 @@ core::DriveSpeeds g_drives = {{kLimits.joint[0].speed_rad_s, kLimits.joint[1].sp
                                kLimits.joint[3].speed_rad_s, kLimits.joint[4].speed_rad_s, kLimits.joint[5].speed_rad_s},
                               0};
 
-// The steppers' drives at their speed limits, and no drive towards a switch that is closed
+// The steppers' drives at their speed limits (J1's at most the one it stops from within
+// kStopTravel_mm at the hand: update_j1_stop), and no drive towards a switch that is closed
 // (the DC joints' speeds are the governor's, set just before or at its last run)
 WMRA_COLD void stop_drives_at_switches() {
   for (uint8_t i = 0; i < 3; ++i) {
     const uint8_t j = kStepperJoint[i];
     g_drives.positive_rad_s[j] = g_drives.negative_rad_s[j] = kLimits.joint[j].speed_rad_s;
   }
+  if (g_j1_stop_speed.raw < kLimits.joint[0].speed_rad_s.raw) g_drives.positive_rad_s[0] = g_drives.negative_rad_s[0] = g_j1_stop_speed;
   core::stop_towards_switches(g_drives, inputs::closed_switches() & kSwitchesArmed);
 }
 
@@ -595,6 +633,7 @@ WMRA_COLD void enter(core::ArmState state) {
   switch (state) {
     case core::ArmState::homing:
       drives_on();
+      set_j1_stop(kStopConstants[0]);
       for (uint8_t i = 0; i < 3; ++i) g_homing[i].restart();
       g_homed = false;
       inputs::arm_switches(kSwitchesArmedHoming);
@@ -609,7 +648,7 @@ WMRA_COLD void enter(core::ArmState state) {
       inputs::arm_switches(kSwitchesArmed);
       break;
     default:
-      drives_off();
+      hold_drives();
       inputs::arm_switches(0);
       break;
   }
@@ -625,7 +664,25 @@ void update_drift(const kin::JacobianTrig<Fixed>& trig, const kin::Vec3<fx::Real
                  drift_correction((p_cmd.z - p.z).raw)};
 }
 
-// The holding effort, and while the stick drives the drift correction, from the references'
+// J1's stop from the pose: its start/stop interval from the inertia, and the speed from which
+// the hand stops within kStopTravel_mm (the drives' bound for J1, applied by
+// stop_drives_at_switches). The deceleration above the start/stop rate stays the largest
+// inertia's: with the speed bound J1 runs faster than the start/stop rate only within 0.13 m of
+// the base axis (the two speeds' ratio squared is 2 kStopTravel_mm N_r / (3 gear r)), and a
+// division for it cost ~650 cycles in a tick shared with the serial link.
+WMRA_SMALL void update_j1_stop(const kin::JacobianTrig<Fixed>& trig) {
+  const core::BaseLoad load = core::base_load(trig);
+  const uint16_t inertia_gm2 = (uint16_t)(load.inertia_gm2 + kJ1RotorAtJoint_gm2);
+  const uint16_t interval = fx::isqrt32((uint32_t)inertia_gm2 * kJ1StartStopInterval2_per_gm2_q8 >> 8);
+  set_j1_stop(control::StopConstants{kStopConstants[0].dv_q8_per_tick, interval});
+  const uint16_t reach_mm = load.hand_reach_mm > 50 ? load.hand_reach_mm : 50;
+  uint32_t speed2_q4 = kJ1StopSpeed2_q4 / fx::mul_uu(inertia_gm2, reach_mm);
+  if (speed2_q4 > (1ul << 27)) speed2_q4 = 1ul << 27;
+  const uint16_t speed_mrad_s = fx::isqrt32(speed2_q4 << 4);
+  g_j1_stop_speed = fx::Real{(int32_t)fx::mul_uu(speed_mrad_s, 8388)};  // Q23 rad/s: 8,388.6 a mrad/s
+}
+
+// The holding effort, and while the stick drives the drift correction, from the references
 // trig. While the stick drives, the motion pass a tick before kept its trig and commanded
 // position (the references at that pass's start, two ticks old: the load's angle sums move a
 // quarter of what they move between two updates, above, and the correction's hand position
@@ -757,9 +814,13 @@ void dc_tick(uint8_t phase, uint8_t slot, bool stick_drives) {
   if (phase == (stick_drives ? kHoldingPhase : kEarlyHoldingPhase)) {
     update_holding(stick_drives);
     g_governor_due = g_holding_governs = !g_holding_governs;
-  } else if (phase == (stick_drives ? kGovernorPhase : kEarlyGovernorPhase) && g_governor_due) {
-    g_governor_due = false;
-    update_governor();
+  } else if (phase == (stick_drives ? kGovernorPhase : kEarlyGovernorPhase)) {
+    if (g_governor_due) {
+      g_governor_due = false;
+      update_governor();
+    } else if (g_homed) {
+      update_j1_stop(g_pass_trig);  // the governor's idle turn, every 16 ticks: ~2,500 cycles
+    }
   }
   if (slot == kDriveSlot) run_dc_servos();
 }
@@ -836,6 +897,7 @@ WMRA_COLD void configure_pot(const Settings& settings, uint8_t d) {
   const int32_t fault_units = lag_units(units, counts, kTrackingFault_mrad);
   g_dc[d].lag_fault_units = (int16_t)(fault_units > 32767 ? 32767 : fault_units);
   g_lag_inverse[d] = (int16_t)(32767 / (g_lag_stop_units[d] - g_lag_slow_units[d]));
+  g_dc[d].standstill_units = (int16_t)lag_units(units, counts, (uint16_t)(kStandstillMove_mdeg * 3.14159265 / 180 + 0.5));
 }
 
 WMRA_COLD void configure(Settings& settings) {
@@ -859,6 +921,7 @@ WMRA_COLD void configure(Settings& settings) {
 
   for (uint8_t i = 0; i < 3; ++i) {
     steppers::rate(i).configure(kRampConstants[i]);
+    steppers::rate(i).configure_stop(kStopConstants[i]);
     g_homing[i].configure(kHomingConfig[i]);
   }
 
@@ -880,12 +943,40 @@ WMRA_COLD void start(Settings& settings) {
 
 void stop_from_interrupt() {
   bridges::all_off();
+  steppers::halt_trains();
+}
+
+void outputs_off() {
+  bridges::all_off();
   steppers::kill();
+}
+
+namespace {
+// An armed limit switch closed (the interrupt has stopped the arm). The moves and the stick keep
+// the joints inside their soft limits, short of the switches: a stepper's switch that closes
+// where the joint's count says it is not at the switch means the count is wrong (position_lost:
+// the steppers are homed again before the next motion); otherwise the motion went into it.
+WMRA_COLD void on_switch_closed(uint16_t closed) {
+  using L = kin::JointLimits<Fixed>;
+  constexpr int32_t kTolerance = (int32_t)(1.5 / 360.0 * fx::kAngleTurn);
+  g_faults |= core::fault_mask(core::kFaultBitLimitUnexpected);
+  steppers::count();
+  for (uint8_t i = 0; i < 2; ++i) {  // J1, J5 (J6's zero switch is not armed)
+    const uint8_t j = kStepperJoint[i];
+    const int32_t angle = kStepperMap[i].angle(steppers::rate(i).position_steps()).raw;
+    for (uint8_t high = 0; high < 2; ++high) {
+      if (!(closed & (1u << (2 * j + high)))) continue;
+      const int32_t off = angle - (high ? L::max[j].raw : L::min[j].raw);
+      if (off > kTolerance || off < -kTolerance) {
+        g_faults |= core::fault_mask(core::kFaultBitPositionLost);
+        g_homed = false;
+      }
+    }
+  }
 }
 
 // a re-arm's (out of iterate, which is at avr-gcc's limit of inlining growth: one more line in
 // it and a scale's product in the steppers' tracking went into an out-of-line copy, 332 B)
-namespace {
 WMRA_COLD void clear_faults() {
   g_faults = 0;
   for (uint8_t d = 0; d < 3; ++d) g_servo[d].reset_checks(g_dc[d].units);
@@ -938,7 +1029,8 @@ void iterate(Requests& rq, uint8_t ticks) {
     const uint8_t flags = g_servo[d].check(g_dc[d].units, ticks, servo_ticks);
     if (flags) g_faults |= core::dc_joint_faults(d, flags);  // a 32-bit shift by a run-time count is a loop
   }
-  if (inputs::take_switch_event()) g_faults |= core::fault_mask(core::kFaultBitLimitUnexpected);
+  const uint16_t switch_closed = inputs::take_switch_event();
+  if (switch_closed) on_switch_closed(switch_closed);
 
   // --- supervisor
   const bool long_press = button == control::ButtonEvent::long_press;
@@ -948,7 +1040,8 @@ void iterate(Requests& rq, uint8_t ticks) {
   const bool stick_neutral = stick.x_q15 == 0 && stick.y_q15 == 0 && !(stick.status & control::kJoystickCalibrating);
   core::SupervisorInputs in{};
   in.safety_pressed = safety;
-  in.faults = (uint16_t)(g_faults & core::kFaultsLatched);
+  in.faults = g_faults & core::kFaultsLatched;
+  in.drives_at_rest = steppers::at_rest();
   in.stick_valid = stick_valid;
   in.stick_neutral = stick_neutral;
   in.short_press = button == control::ButtonEvent::press;
@@ -1017,7 +1110,11 @@ void iterate(Requests& rq, uint8_t ticks) {
       break;
   }
   if (!stick_drives) g_motion_elapsed = 0;
-  if (g_supervisor.drives_enabled()) dc_tick(phase, slot, stick_drives);
+  if (g_supervisor.drives_enabled()) {
+    dc_tick(phase, slot, stick_drives);
+  } else {
+    watch_standstill(ticks);
+  }
   if (slot == kDriveSlot) g_servo_elapsed = 0;
   // the steppers' ramps with this iteration's commands: while the stick drives in their slot,
   // and the steps made counted in the tick before it only, for its tracking (a tick old, as in

@@ -67,7 +67,8 @@ void start(Settings& settings);
 // one control iteration; `ticks` control ticks (1 ms) passed since the last one (more than one:
 // the loop overran, and the references advance by the time that passed)
 void iterate(Requests& requests, uint8_t ticks);
-void stop_from_interrupt();         // the stop hook of the safety button and the limit switches
+void stop_from_interrupt();  // the stop hook of the safety button and the limit switches: the arm held
+void outputs_off();          // a hang's (watchdog.h): every output off, the steppers' drivers too
 const Status& status();
 bool select_mode(config::Mode m);
 void set_speed_scale(uint8_t percent);

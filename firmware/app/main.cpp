@@ -30,7 +30,7 @@ int main() {
   bridges::start();
   pins::write(board::kTimingProbe, false);
   pins::output(board::kTimingProbe);
-  watchdog::start(&app::stop_from_interrupt);
+  watchdog::start(&app::outputs_off);
 
   static app::Settings settings;
   const eeprom_store::LoadResult loaded = app::load_settings(settings);

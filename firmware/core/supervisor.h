@@ -42,7 +42,7 @@ inline const char* to_string(ArmState s) {
 // what the rest of the firmware reports at one control tick
 struct SupervisorInputs {
   bool safety_pressed;  // the safety button is pressed (or its wire broken)
-  uint16_t faults;      // latched fault bits of the safety checks; 0 when clear
+  uint32_t faults;      // latched fault bits of the safety checks; 0 when clear
   bool stick_valid;     // both stick channels inside their rails
   bool stick_neutral;   // inside the centre dead zone
   bool short_press;     // one-tick events from the button logic
@@ -52,6 +52,7 @@ struct SupervisorInputs {
   bool home_command;
   bool homed;          // every stepper has found its switch
   bool at_ready;       // the move to the ready pose has arrived
+  bool drives_at_rest;  // no stepper is still braking from a stop
 };
 
 class Supervisor {
@@ -100,7 +101,8 @@ class Supervisor {
         state_ = ArmState::wait_neutral;
         break;
       case ArmState::wait_neutral:
-        if (neutral_ms_ >= kNeutralHold_ms) {
+        // (a stepper still braking from a stop: its count is not yet where it rests)
+        if (neutral_ms_ >= kNeutralHold_ms && in.drives_at_rest) {
           state_ = !(in.homed && homed_) ? ArmState::homing : reached_ready_ ? ArmState::running : ArmState::to_ready;
         }
         break;

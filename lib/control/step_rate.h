@@ -134,6 +134,19 @@ constexpr MoveSpeed move_speed(const StepRateConstants& k, uint32_t speed_steps_
   return MoveSpeed{q8, c * (c + dv_steps_s_of(k, (int32_t)k.dv_q8_per_tick)) / k.two_a + 1};
 }
 
+// A ramp's stop (SPEC 6): a train whose interval is at least the start/stop interval (at or below
+// the start/stop rate) ends at once: the motor's magnetic spring takes the rotor and its load
+// from that speed to rest; a faster one slows at the stop's deceleration first
+// (firmware/config/stop_config.h derives both from the motor and its load).
+struct StopConstants {
+  uint32_t dv_q8_per_tick;             // the stop's deceleration / tick rate
+  uint16_t start_stop_interval_ticks;  // kTickHz / the start/stop rate
+};
+constexpr StopConstants stop_constants(uint32_t tick_hz, uint16_t loop_hz, int32_t decel_steps_s2, uint32_t start_stop_steps_s) {
+  return StopConstants{(uint32_t)((uint64_t)decel_steps_s2 * 256 / loop_hz),
+                       (uint16_t)(start_stop_steps_s == 0 || tick_hz / start_stop_steps_s > 0xFFFF ? 0xFFFF : tick_hz / start_stop_steps_s)};
+}
+
 // What the step ISR gets for the next tick.
 struct StepPlan {
   uint32_t interval_q8;  // 0: no step (the channel stops at its next edge)
@@ -161,6 +174,7 @@ class StepRate {
   // (|speed| < kTickHz / max_interval) it brakes to rest. Saturates at the top speed.
   void set_speed(int32_t speed_steps_s) {
     stopping_ = false;
+    quick_ = false;
     want_q8_ = speed_q8(magnitude_u32(speed_steps_s));
     if (speed_steps_s < 0) want_q8_ = -want_q8_;
     has_target_ = false;
@@ -177,6 +191,7 @@ class StepRate {
   void move_to(int32_t target_steps, const MoveSpeed& speed) {
     const int32_t target = clamp_i32(target_steps, -kPositionLimit, kPositionLimit);
     if (!has_target_ || target != target_) stopping_ = false;
+    quick_ = false;
     target_ = target;
     want_q8_ = speed.q8;
     cruise_steps_ = speed.cruise_steps;
@@ -185,14 +200,23 @@ class StepRate {
   // Brake to rest at the acceleration limit.
   void stop() {
     stopping_ = false;
+    quick_ = false;
     want_q8_ = 0;
     has_target_ = false;
   }
-  // Forget the speed at once (the caller has cut the driver: e-stop, fault).
+  // Forget the speed at once (the caller has cut the driver: a hang, a release).
   void halt() {
     stop();
     v_q8_ = 0;
   }
+  // The stop: the train ends at once at or below the start/stop rate, else the speed falls at
+  // the stop's deceleration (configure_stop) to it, then ends. Kept until the next command.
+  void quick_stop() {
+    stop();
+    quick_ = true;
+  }
+  void configure_stop(const StopConstants& s) { stop_ = s; }
+  const StopConstants& stop_constants() const { return stop_; }
 
   // The steps the channel made since the last count (signed: in its direction).
   void count_steps(int32_t steps) { position_ += steps; }
@@ -207,6 +231,7 @@ class StepRate {
   // stepping_dir: the direction of the edge the channel still has scheduled (0: stopped); the
   // speed leaves 0 the other way only once that edge is made.
   StepPlan plan(uint8_t ticks, int8_t stepping_dir) {
+    if (quick_) return plan_quick_stop(ticks);
     int32_t want = want_q8_;
     uint16_t steps_left = kNoStop;
     if (has_target_) {
@@ -354,7 +379,27 @@ class StepRate {
     return Approach{want, steps_left, false};
   }
 
+  // The stop's tick: down by its deceleration's dv, and to rest once at or below the start/stop
+  // rate. Out of line: a stop's ticks are few, the running ones keep their registers.
+  __attribute__((noinline)) StepPlan plan_quick_stop(uint8_t ticks) {
+    const uint32_t speed = magnitude_u32(v_q8_);
+    // (a deceleration of 2^24 Q8 a tick, 65,000 steps/s, or more stops any train at once: the
+    // product then fits 32 bits)
+    const uint32_t dv = stop_.dv_q8_per_tick >= (1ul << 24) ? 0xFFFFFFFFu : stop_.dv_q8_per_tick * ticks;
+    const uint32_t slower = speed > dv ? speed - dv : 0;
+    const uint32_t interval = slower < (uint32_t)k_.v_min_q8 ? 0xFFFFFFFFu : interval_q8(slower);
+    if (interval >= (uint32_t)stop_.start_stop_interval_ticks << 8) {
+      v_q8_ = 0;
+      return StepPlan{0, 0};
+    }
+    v_q8_ = v_q8_ < 0 ? -(int32_t)slower : (int32_t)slower;
+    interval_q8_ = interval;
+    return StepPlan{interval_q8_, kNoStop};
+  }
+
   StepRateConstants k_{RateStatus::ok, 0, 0, 0x7FFFFFFF, 0, 0, 0, 0, 0};  // not configured: no speed is fast enough
+  StopConstants stop_{1ul << 24, 0};  // not configured: any speed stops at once
+  bool quick_ = false;  // quick_stop() until the next command
   int32_t want_q8_ = 0;
   bool has_target_ = false;
   bool stopping_ = false;  // the ISR has the target's steps left

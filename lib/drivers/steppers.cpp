@@ -38,6 +38,7 @@ struct Channel {
 };
 volatile uint8_t g_running;  // bit i: channel i has an edge scheduled
 volatile bool g_killed = true;
+volatile bool g_halting;  // halt_trains() until resume()
 // One channel's state in one place: service()'s loop walks one table (a table per field kept
 // six pointers, which avr-gcc spilled to the stack).
 struct ChannelState {
@@ -222,7 +223,7 @@ void hand_over(uint8_t i, uint8_t bit, const control::StepPlan& p, int32_t speed
     if (g_running & bit) {
       c.left = left;
       if (p.interval_q8 != 0) set_interval(i, c, p.interval_q8);
-    } else if (p.interval_q8 != 0 && !arrived) {
+    } else if (p.interval_q8 != 0 && !arrived && !g_halting) {
       start_channel(i, speed_q8 > 0 ? 1 : -1, p.interval_q8, left);
     } else {
       left = now;
@@ -276,6 +277,43 @@ __attribute__((optimize("O3"))) void kill() {
   SREG = s;
 }
 
+// With interrupts off: channel i's train ends now. A step whose edge has risen (its compare
+// matched) but whose interrupt has not yet run is made: the driver took it at the rising edge,
+// so it is counted; the pulse is ended here.
+template <uint8_t I>
+inline void end_train() {
+  Channel& c = g_ch[I].isr;
+  const uint8_t flag = (uint8_t)(1 << ocie_bit(I));
+  if (TIFR5 & flag) {
+    --c.left;
+    TIFR5 = flag;
+  }
+  TIMSK5 &= (uint8_t)~flag;
+  set_com(I, kComClear);
+  TCCR5C = (uint8_t)(1 << foc_bit(I));  // STEP low
+  set_com(I, 0);
+  g_running &= (uint8_t)~(1 << I);
+}
+
+template <uint8_t I>
+inline void halt_train() {
+  if ((g_running & (1 << I)) && g_ch[I].isr.interval >= g_ch[I].rate.stop_constants().start_stop_interval_ticks) end_train<I>();
+}
+
+void halt_trains() {
+  const uint8_t s = SREG;
+  cli();
+  g_halting = true;
+  halt_train<0>();
+  halt_train<1>();
+  halt_train<2>();
+  SREG = s;
+}
+
+void resume() { g_halting = false; }
+bool halting() { return g_halting; }
+bool at_rest() { return g_running == 0; }
+
 bool running(uint8_t i) { return g_running & (1 << i); }
 namespace detail {
 Rate* const kRate[kCount] = {&g_ch[0].rate, &g_ch[1].rate, &g_ch[2].rate};
@@ -303,6 +341,7 @@ __attribute__((optimize("O3"))) void service(uint8_t ticks) {
     ChannelState& ch = g_ch[i];
     const int8_t stepping = count_made(ch, bit);
     if (g_killed) continue;  // the ramps as they were: the caller sees which were moving
+    if (g_halting) ch.rate.quick_stop();
     const control::StepPlan p = ch.rate.plan(ticks, stepping);
     // Stopped and staying so: hand_over would change nothing (no edge, so the ISR's count
     // stands since count_made; a channel starts only in hand_over)

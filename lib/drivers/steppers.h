@@ -32,10 +32,19 @@ constexpr uint8_t kCount = 3;  // J1, J5, J6
 void start();  // pins low, drivers disabled, timer running, no steps
 // DRV8825 EN (active low) of all three. On: the ramps halted (at rest) and service() re-armed.
 void enable_drivers(bool on);
-// From any context, also an ISR: no more edges (STEP low, interrupts off), drivers disabled.
-// service() then only counts the steps made: the ramps keep their speeds (the main loop sees
-// which were moving, and halts them) and nothing is started until enable_drivers(true).
+// The stop (SPEC 6), from any context, also an ISR; the drivers stay enabled and hold. A train
+// at or below its ramp's start/stop rate (StepRate::configure_stop) ends at once; a faster one
+// runs on for at most a service period and then falls at the stop's deceleration to that rate
+// and ends. Until resume() service() only stops: each ramp's commands give way to its stop, and
+// no train is started.
+void halt_trains();
+void resume();
+bool halting();
+// From any context, also an ISR: no more edges (STEP low, interrupts off), drivers disabled: a
+// hang's cut (watchdog.h) and the optional release after a stop. service() then only counts
+// the steps made, and nothing is started until enable_drivers(true).
 void kill();
+bool at_rest();  // no train has an edge scheduled
 bool running(uint8_t i);  // channel i has an edge scheduled
 namespace detail {
 extern Rate* const kRate[kCount];  // steppers.cpp's ramps: rate() is a pointer load, not a call

@@ -204,8 +204,10 @@ std::vector<std::array<std::string, 2>> summary_rows(const RunResult& result, co
   rows.push_back({"resets", resets});
   for (const auto& e : m.estop) {
     rows.push_back({format("e-stop at %.3f s", e.pressed_s),
-                    e.outputs_off_s >= 0 ? format("outputs off after %.1f us", 1e6 * (e.outputs_off_s - e.pressed_s))
-                                         : std::string("outputs not off by the end")});
+                    e.bridges_off_s >= 0
+                        ? format("bridges braking after %.1f us, steppers held at rest after %.1f ms", 1e6 * (e.bridges_off_s - e.pressed_s),
+                                 1e3 * (e.trains_stopped_s() - e.pressed_s))
+                        : std::string("bridges not braking by the end")});
   }
   rows.push_back({"UART", format("%llu B out, %llu B in", (unsigned long long)m.uart_tx_bytes,
                                  (unsigned long long)m.uart_rx_bytes)});
@@ -278,8 +280,8 @@ std::string data_json(const RunResult& result, const Scenario& scenario, const s
     j.raw(i ? ",[" : "[");
     j.number(m.estop[i].pressed_s, 6);
     j.raw(",");
-    if (m.estop[i].outputs_off_s >= 0) {
-      j.number(m.estop[i].outputs_off_s, 6);
+    if (m.estop[i].bridges_off_s >= 0) {
+      j.number(m.estop[i].bridges_off_s, 6);
     } else {
       j.raw("null");
     }

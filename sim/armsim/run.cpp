@@ -221,12 +221,14 @@ void write_summary_json(const std::string& path, const RunResult& result, const 
   std::fprintf(f, "  \"estop\": [");
   for (size_t i = 0; i < m.estop.size(); ++i) {
     const sim::EstopReaction& e = m.estop[i];
-    if (e.outputs_off_s >= 0) {
-      std::fprintf(f, "%s{\"pressed_s\": %.6f, \"outputs_off_s\": %.6f, \"reaction_s\": %.6f}", i ? ", " : "", e.pressed_s,
-                   e.outputs_off_s, e.outputs_off_s - e.pressed_s);
+    std::fprintf(f, "%s{\"pressed_s\": %.6f, ", i ? ", " : "", e.pressed_s);
+    if (e.bridges_off_s >= 0) {
+      std::fprintf(f, "\"bridges_off_s\": %.6f, \"reaction_s\": %.6f, ", e.bridges_off_s, e.bridges_off_s - e.pressed_s);
     } else {
-      std::fprintf(f, "%s{\"pressed_s\": %.6f, \"outputs_off_s\": null, \"reaction_s\": null}", i ? ", " : "", e.pressed_s);
+      std::fprintf(f, "\"bridges_off_s\": null, \"reaction_s\": null, ");
     }
+    std::fprintf(f, "\"trains_stopped_s\": %.6f, \"steps_after\": [%lld, %lld, %lld]}", e.trains_stopped_s(),
+                 (long long)e.trains[0].steps, (long long)e.trains[1].steps, (long long)e.trains[2].steps);
   }
   std::fprintf(f, "],\n");
   std::fprintf(f, "  \"uart\": {\"tx_bytes\": %llu, \"rx_bytes\": %llu, \"rx_dropped\": %llu},\n",

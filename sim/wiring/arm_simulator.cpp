@@ -275,7 +275,7 @@ void ArmSimulator::update_outputs(bool steppers, bool probe_pin) {
     s->en_level = en;
     s->dir_level = dir;
     s->step_level = step;
-    plant_.set_stepper_pins(s->joint, en, dir, step, t);
+    if (plant_.set_stepper_pins(s->joint, en, dir, step, t) != 0) note_step_after_estop(s->joint, t);
   }
   const bool probe = out_level(*probe_);
   if (probe_pin && probe != probe_level_) {
@@ -317,10 +317,22 @@ double ArmSimulator::compare_duty(const Bridge& br, bool left) const {
 
 double ArmSimulator::bridge_duty(int joint, bool left) const { return bridges_[joint - 1]->duty[left ? 0 : 1]; }
 
-bool ArmSimulator::outputs_off() const {
+bool ArmSimulator::bridges_off() const {
   for (const auto& br : bridges_) {
     if (compare_duty(*br, true) != 0 || compare_duty(*br, false) != 0) return false;
   }
+  return true;
+}
+
+bool ArmSimulator::drivers_enabled() const {
+  for (const auto& s : steppers_) {
+    if (out_level(s->en)) return false;
+  }
+  return true;
+}
+
+bool ArmSimulator::outputs_off() const {
+  if (!bridges_off()) return false;
   for (const auto& s : steppers_) {
     if (!out_level(s->en)) return false;
   }
@@ -398,12 +410,29 @@ void ArmSimulator::set_button(bool down) {
 void ArmSimulator::set_estop(bool down) {
   plant_.set_estop(down);
   apply_inputs();
-  if (down) estop_.push_back({time_s(), -1});
+  if (down) {
+    EstopReaction e;
+    e.pressed_s = time_s();
+    estop_.push_back(e);
+  }
   check_estop();
 }
 
 void ArmSimulator::check_estop() {
-  if (!estop_.empty() && estop_.back().outputs_off_s < 0 && outputs_off()) estop_.back().outputs_off_s = time_s();
+  if (!estop_.empty() && estop_.back().bridges_off_s < 0 && bridges_off()) estop_.back().bridges_off_s = time_s();
+}
+
+void ArmSimulator::note_step_after_estop(int joint, double t_s) {
+  if (estop_.empty()) return;
+  EstopReaction& e = estop_.back();
+  TrainAfterStop& k = e.trains[joint == 0 ? 0 : joint == 4 ? 1 : 2];
+  ++k.steps;
+  if (k.last_step_s >= 0) {
+    const double interval = t_s - k.last_step_s;
+    if (k.last_interval_s >= 0 && t_s > e.pressed_s + 1e-3 && interval < k.last_interval_s - 4.5e-6) k.sped_up = true;
+    k.last_interval_s = interval;
+  }
+  k.last_step_s = t_s;
 }
 
 void ArmSimulator::send_serial(const std::vector<uint8_t>& bytes) {

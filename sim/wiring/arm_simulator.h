@@ -68,9 +68,27 @@ struct StepperCounts {
   int64_t timing_violations = 0;
 };
 
+// A stepper's train after the safety button's press: SPEC 6's stop ends it at once, or (above
+// its start/stop rate) slows it down to an end, the driver enabled.
+struct TrainAfterStop {
+  int64_t steps = 0;          // microsteps taken since the press
+  double last_step_s = -1;    // the last one's time; < 0: none
+  double last_interval_s = -1;
+  // an interval more than 1 ms after the press shorter than the one before by more than a
+  // Timer5 tick's jitter (4 us): the train sped up instead of slowing down
+  bool sped_up = false;
+};
 struct EstopReaction {
   double pressed_s;
-  double outputs_off_s;  // < 0: not yet
+  double bridges_off_s = -1;  // every bridge at duty 0; < 0: not yet
+  std::array<TrainAfterStop, 3> trains;  // J1, J5, J6
+  // the last step of any train after the press (the press itself when none stepped): the arm's
+  // drives at rest, held
+  double trains_stopped_s() const {
+    double t = pressed_s;
+    for (const TrainAfterStop& k : trains) t = k.last_step_s > t ? k.last_step_s : t;
+    return t;
+  }
 };
 
 struct Measurements {
@@ -130,7 +148,9 @@ class ArmSimulator {
   const AvrCore& core() const { return *core_; }
   const std::vector<uint8_t>& uart_output() const { return uart_tx_; }
   double bridge_duty(int joint, bool left) const;  // DC joint 1..3, last applied
-  bool outputs_off() const;  // every bridge at 0 and every DRV8825 disabled
+  bool outputs_off() const;  // every bridge at 0 and every DRV8825 disabled (a hang's cut)
+  bool bridges_off() const;  // every bridge at 0 (braking: both sides low)
+  bool drivers_enabled() const;  // every DRV8825 enabled (holding its motor)
   double gripper_pulse_us() const;  // the servo pulse on D13 (Timer1 OC1C), 0 when off
   Measurements measurements() const;
 
@@ -158,6 +178,7 @@ class ArmSimulator {
   void apply_inputs();
   void declare_external(board::Port port);
   void check_estop();
+  void note_step_after_estop(int joint, double t_s);
   bool out_level(const OutPin& p) const;
   bool compare_level(const OutPin& p, const Compare& c, const m2560::TimerSnapshot& timer) const;
   double compare_duty(const Bridge& b, bool left) const;

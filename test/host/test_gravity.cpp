@@ -7,6 +7,7 @@
 #include <random>
 
 #include "config/gravity_config.h"
+#include "core/base_inertia.h"
 #include "core/gravity.h"
 #include "kinematics/arm_model.h"
 #include "kinematics/forward_kinematics.h"
@@ -47,6 +48,34 @@ TEST(Gravity, HoldingEffortIsTheSimulatorsGravityOverTheStallTorque) {
     }
   }
   std::printf("holding effort: worst error %.5f of full duty over 10,000 poses\n", worst);
+}
+
+// J1's stop plans with the firmware's inertia about the base axis: never below the simulator's
+// (an under-estimate would ask J1's motor for more than it has), and not far above it.
+TEST(Gravity, BaseInertiaBoundsTheSimulatorsFromAbove) {
+  std::mt19937 rng(11);
+  double worst_over = 0, worst_ratio = 1e9;
+  for (int n = 0; n < 10000; ++n) {
+    std::array<double, 6> q;
+    for (int j = 0; j < 6; ++j) {
+      std::uniform_real_distribution<double> in(arm::q_min_rad(j), arm::q_max_rad(j));
+      q[j] = in(rng);
+    }
+    const double sim_gm2 = 1000 * plant::joint_loads(q, true, true).inertia_kgm2[0];
+    const core::BaseLoad load = core::base_load(fixed_trig(q));
+    const double fw_gm2 = load.inertia_gm2;
+    // and the hand's distance from the base axis from above, within 12 % (max + min / 2)
+    const plant::Frame hand = plant::arm_frames(q)[5];
+    const double reach_mm = 1000 * std::hypot(hand.p[0], hand.p[1]);
+    ASSERT_GE(load.hand_reach_mm + 1.0, reach_mm) << "pose " << n;
+    EXPECT_LE(load.hand_reach_mm, 1.12 * reach_mm + 8) << "pose " << n;
+    ASSERT_GE(fw_gm2, sim_gm2) << "pose " << n;
+    // over by at most the links' own inertia (60) and the rounding of each distance up to 8 mm
+    EXPECT_LE(fw_gm2, 1.04 * sim_gm2 + 80) << "pose " << n;
+    worst_over = std::max(worst_over, fw_gm2 - sim_gm2);
+    worst_ratio = std::min(worst_ratio, sim_gm2 / fw_gm2);
+  }
+  std::printf("base inertia: at most %.0f g m^2 over the simulator's, its share at least %.2f\n", worst_over, worst_ratio);
 }
 
 TEST(Gravity, StretchedForwardJ2HoldsMostAndJ4Least) {

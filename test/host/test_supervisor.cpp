@@ -13,6 +13,7 @@ core::SupervisorInputs quiet() {
   core::SupervisorInputs in{};
   in.stick_valid = true;
   in.stick_neutral = true;
+  in.drives_at_rest = true;
   return in;
 }
 

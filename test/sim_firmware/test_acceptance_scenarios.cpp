@@ -37,7 +37,7 @@ struct PlantWatch {
   plant::Joints q_min, q_max;
   bool switch_closed = false;  // a limit switch of J1..J5 as the Mega reads it
   bool at_limit = false;       // a joint at or past its switch's angle
-  bool driven = false;         // a bridge or a DRV8825 on
+  bool driven = false;         // a bridge on (the steppers' steps are counted apart)
   void reset(const plant::Joints& q) {
     q_min = q_max = q;
     switch_closed = at_limit = driven = false;
@@ -50,7 +50,7 @@ struct PlantWatch {
       at_limit |= q[j] >= arm::q_max_rad(j) || q[j] <= arm::q_min_rad(j);
     }
     for (int j = 0; j < 5; ++j) switch_closed |= sim.plant().limit_closed(j, false) || sim.plant().limit_closed(j, true);
-    driven |= !sim.outputs_off();
+    driven |= !sim.bridges_off();
   }
   double travel_rad(int j) const { return q_max[j] - q_min[j]; }
   double largest_travel_rad() const {
@@ -385,7 +385,7 @@ TEST(AcceptanceScenarios, S8JoystickUnpluggedStopsAndNeedsNeutral) {
   EXPECT_GT(distance_mm(rig.pose().p, rearmed.p), 20.0) << "the stick drives again after neutral";
 }
 
-// S8, pot: J3's wiper open (0 V) while the arm holds still: the drives go off, j3_rail is
+// S8, pot: J3's wiper open (0 V) while the arm holds still: the arm is held (SPEC 6), j3_rail is
 // reported, nothing moves or is driven, also with the stick deflected and through a re-arm
 // while the wire is still open; with the wire mended, a re-arm brings it back to running.
 TEST(AcceptanceScenarios, S8PotOpenWireStopsUntilRearmed) {
@@ -397,7 +397,8 @@ TEST(AcceptanceScenarios, S8PotOpenWireStopsUntilRearmed) {
   rig.run_to(t_open + 0.1);
   EXPECT_EQ(rig.state(), core::ArmState::fault);
   EXPECT_TRUE(has_fault(rig.last(), core::kFaultBitJ2 + 4 * 1 + 3)) << "j3_rail";
-  EXPECT_TRUE(rig.sim.outputs_off());
+  EXPECT_TRUE(rig.sim.bridges_off());
+  EXPECT_TRUE(rig.sim.drivers_enabled()) << "SPEC 6: the steppers held";
   const int64_t steps = r.steps_commanded();
   const plant::Joints q_fault = rig.sim.q();
   r.watch.reset(q_fault);
@@ -410,12 +411,11 @@ TEST(AcceptanceScenarios, S8PotOpenWireStopsUntilRearmed) {
   EXPECT_EQ(rig.state(), core::ArmState::fault);
   EXPECT_FALSE(r.watch.driven) << "an output came on while the pot was open";
   EXPECT_EQ(r.steps_commanded(), steps);
-  // Undriven, the worm-geared DC joints hold still; a stepper whose DRV8825 is disabled lets
-  // its rotor fall into the nearest detent (200 per motor turn), at most one full step away at
-  // the joint: J1 15.7, J5 3.1, J6 31.4 mrad.
+  // The worm-geared DC joints hold still with their bridges braking, the steppers on their
+  // drivers' holding current, at rest on their last microstep.
   for (int j = 0; j < 6; ++j) {
     const bool stepper = j == 0 || j == 4 || j == 5;
-    const double allowed_rad = stepper ? 2 * arm::kPi / plant::kFullStepsPerRev / plant::kGearRatio[j] : 1e-4;
+    const double allowed_rad = stepper ? 2 * arm::kPi / plant::kFullStepsPerRev / plant::kMicrosteps / plant::kGearRatio[j] : 1e-4;
     std::printf("S8 pot: J%d travelled %.4f mrad in fault (allowed %.4f)\n", j + 1, 1000 * r.watch.travel_rad(j),
                 1000 * allowed_rad);
     EXPECT_LE(r.watch.travel_rad(j), allowed_rad) << "J" << j + 1;
@@ -442,7 +442,8 @@ TEST(AcceptanceScenarios, S8EveryPotFaultStopsTheArm) {
       EXPECT_EQ(rig.state(), core::ArmState::fault);
       EXPECT_TRUE(has_fault(rig.last(), core::kFaultBitJ2 + 4 * d + 3) || has_fault(rig.last(), core::kFaultBitJ2 + 4 * d + 2))
           << "its rail or jump";
-      EXPECT_TRUE(rig.sim.outputs_off());
+      EXPECT_TRUE(rig.sim.bridges_off());
+      EXPECT_TRUE(rig.sim.drivers_enabled()) << "SPEC 6: the steppers held";
     }
   }
 }

@@ -68,7 +68,8 @@ struct Stretch {
   int mode;
   TrajectoryRow first;
   double hand_mm = 0, wrist_rad = 0;
-  bool outputs_always_off = true;
+  bool bridges_always_off = true;        // braking, duty 0
+  bool drivers_always_enabled = true;     // the steppers held
   std::array<double, 6> q_min = first.q, q_max = first.q;
   bool coasted = false;                    // kCoastDown_s into the stretch
   std::array<double, 6> rest_min = first.q, rest_max = first.q;  // the joints' range from then on
@@ -97,7 +98,8 @@ void run_demo(DemoRun* r) {
     Stretch& now = s.back();
     now.hand_mm = std::max(now.hand_mm, distance_mm(row, now.first));
     now.wrist_rad = std::max(now.wrist_rad, turned_rad(row, now.first));
-    now.outputs_always_off &= sim.outputs_off();
+    now.bridges_always_off &= sim.bridges_off();
+    now.drivers_always_enabled &= sim.drivers_enabled();
     const double pulse_us = sim.gripper_pulse_us();
     if (now.pulse_first_us < 0) now.pulse_first_us = pulse_us;
     now.pulse_min_us = std::min(now.pulse_min_us, pulse_us);
@@ -196,15 +198,22 @@ void check_modes(const DemoRun& d) {
 void check_safety_stop(const DemoRun& d) {
   const std::vector<sim::EstopReaction>& estop = d.result.measurements.estop;
   ASSERT_EQ(estop.size(), 1u) << "the scenario presses the safety button once";
-  ASSERT_GE(estop[0].outputs_off_s, 0) << "outputs never went off";
-  const double reaction_ms = 1000 * (estop[0].outputs_off_s - estop[0].pressed_s);
+  ASSERT_GE(estop[0].bridges_off_s, 0) << "the bridges never braked";
+  const double reaction_ms = 1000 * (estop[0].bridges_off_s - estop[0].pressed_s);
+  // SPEC 6: each stepper's train ends at once or slows down to an end, its driver enabled
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_FALSE(estop[0].trains[k].sped_up) << "stepper " << k;
+    std::printf("demo: safety button, stepper %d made %lld steps after the press\n", k, (long long)estop[0].trains[k].steps);
+  }
+  EXPECT_LE(estop[0].trains_stopped_s() - estop[0].pressed_s, kCoastDown_s);
   bool stopped_seen = false, moved_after = false;
   for (const Stretch& s : d.stretches) {
     if (s.state == ArmState::stopped) {
       stopped_seen = true;
-      std::printf("demo: safety button, outputs off in %.3f ms; stopped from %.2f s, hand moved %.2f mm\n", reaction_ms,
+      std::printf("demo: safety button, bridges braking in %.3f ms; stopped from %.2f s, hand moved %.2f mm\n", reaction_ms,
                   s.first.t_s, s.hand_mm);
-      EXPECT_TRUE(s.outputs_always_off);
+      EXPECT_TRUE(s.bridges_always_off);
+      EXPECT_TRUE(s.drivers_always_enabled) << "SPEC 6: the steppers' drivers hold the arm";
       ASSERT_TRUE(s.coasted) << "stopped for less than " << kCoastDown_s << " s";
       for (int j = 0; j < 6; ++j) EXPECT_LE(s.rest_max[j] - s.rest_min[j], stopped_travel_allowed_rad(j)) << "joint " << j + 1;
     } else if (stopped_seen && s.state == ArmState::running) {

