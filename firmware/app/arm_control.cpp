@@ -953,6 +953,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   in.stick_neutral = stick_neutral;
   in.short_press = button == control::ButtonEvent::press;
   in.long_press = long_press;
+  in.button_down = g_button.down();
   in.rearm_command = rq.rearm;
   in.stop_command = rq.stop;
   in.home_command = rq.home;
