@@ -896,9 +896,9 @@ void iterate(Requests& rq, uint8_t ticks) {
   // --- inputs
   uint16_t adc[adc::kMaxChannels];
   adc::snapshot(adc);
-  // the limit switches for homing, which is entered only from wait_neutral: not read while
-  // running or moving to the ready pose (the report reads them itself; a switch hit while
-  // running is the interrupt's event below)
+  // the limit switches for homing, which is entered only from wait_home or wait_neutral: not
+  // read while running or moving to the ready pose (the report reads them itself; a switch hit
+  // while running is the interrupt's event below)
   const core::ArmState before = g_supervisor.state();
   const bool homing_possible = before != core::ArmState::running && before != core::ArmState::to_ready;
   const uint16_t switches = homing_possible ? inputs::closed_switches() : 0;

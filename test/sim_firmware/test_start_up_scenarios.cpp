@@ -275,8 +275,8 @@ TEST(S12StartUp, AnAskDuringTheStartUpChangesNothing) {
 }
 
 // Before the first homing: a stop and a re-arm by command, then the safety button and a re-arm
-// by long press (the press that re-arms is not also the ask to home), and the motion commands
-// (goto, velocity, mode) refused: the arm waits on, nothing moves.
+// by a long press held on for 3 s, into the wait (the press that re-arms is not also the ask to
+// home), and the motion commands (goto, velocity, mode) refused: the arm waits on, nothing moves.
 TEST(S12StartUp, StopsReArmsAndMotionCommandsInTheWaitStartNothing) {
   Watched w;
   w.rig.run_to(1.0);
@@ -290,7 +290,7 @@ TEST(S12StartUp, StopsReArmsAndMotionCommandsInTheWaitStartNothing) {
   w.rig.sim.set_estop(false);
   w.rig.run_to(w.rig.sim.time_s() + 0.2);
   ASSERT_EQ(w.rig.state(), core::ArmState::stopped);
-  w.rig.press_button(kLongPress_s);
+  w.rig.press_button(3.0);  // held on past the re-arm and the neutral hold, into the wait
   w.rig.run_to(w.rig.sim.time_s() + 1.0);
   EXPECT_EQ(w.rig.state(), core::ArmState::wait_home) << "re-armed by the long press, not homed by it";
   uint8_t seq = 3;
