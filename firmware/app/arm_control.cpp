@@ -987,9 +987,9 @@ void iterate(Requests& rq, uint8_t ticks) {
   // --- inputs
   uint16_t adc[adc::kMaxChannels];
   adc::snapshot(adc);
-  // the limit switches for homing, which is entered only from wait_neutral: not read while
-  // running or moving to the ready pose (the report reads them itself; a switch hit while
-  // running is the interrupt's event below)
+  // the limit switches for homing, which is entered only from wait_home or wait_neutral: not
+  // read while running or moving to the ready pose (the report reads them itself; a switch hit
+  // while running is the interrupt's event below)
   const core::ArmState before = g_supervisor.state();
   const bool homing_possible = before != core::ArmState::running && before != core::ArmState::to_ready;
   const uint16_t switches = homing_possible ? inputs::closed_switches() : 0;
@@ -1046,6 +1046,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   in.stick_neutral = stick_neutral;
   in.short_press = button == control::ButtonEvent::press;
   in.long_press = long_press;
+  in.button_down = g_button.down();
   in.rearm_command = rq.rearm;
   in.stop_command = rq.stop;
   in.home_command = rq.home;

@@ -125,9 +125,7 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
       set_speed_scale(f.payload[0]);
       return ReplyStatus::ok;
     case MsgType::cmd_home:
-      // the move to the ready pose follows a homing: cutting its drives at speed to home again
-      // would let J1 coast (~10 deg, a stop's), and the supervisor ignores it there
-      if (state == core::ArmState::to_ready) return ReplyStatus::refused;
+      if (!core::accepts_home(state)) return ReplyStatus::refused;
       rq.home = true;
       return ReplyStatus::ok;
     case MsgType::cmd_goto_pose:

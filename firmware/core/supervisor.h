@@ -1,20 +1,30 @@
 // The arm's top-level states (SPEC sections 5 and 6), as a pure state machine: inputs are
 // what the drivers and the other blocks report each control tick, outputs say what may move.
 //
-//   boot -> wait_neutral -> homing -> to_ready -> running
+//   boot -> wait_neutral -> wait_home -> homing -> to_ready -> running
 //   any state -> stopped  while the safety button is pressed, or on a stop command (latched:
 //                         re-arm after release)
 //   any state -> fault    on a fault (latched: re-arm once the fault has cleared)
+// Nothing moves until the person asks (SPEC 5): after every reset the arm waits in wait_home,
+// drives off, until a long press of the joystick button or a home command starts the homing.
+// wait_home is entered only with the stick valid and neutral for kNeutralHold_ms and is left
+// for wait_neutral as soon as it is not, so an ask counts only with the stick at rest: a long
+// press or a home command in boot or wait_neutral (stick not yet calibrated, deflected, at a
+// rail) starts nothing and is not remembered; the link refuses a home command there. A long
+// press counts only where it began in wait_home, so with the stick neutral for the whole
+// press: one begun with the stick deflected (let go before the press is long) or a button
+// held since before the wait (stuck, or a hand resting on it at power-up) starts nothing until
+// the button has been released in the wait and pressed again.
 // Re-arming (a long press or the serial command) from stopped or fault goes back to
 // wait_neutral, so nothing moves until the stick has been seen neutral again; from there the
-// steppers are homed again unless `homed` still holds (the firmware drops it when a stepper
-// was turning as its driver went off: it coasted, and its step count is no longer its angle),
-// and a move to the ready pose that a stop cut short is made again: the arm runs only from the
-// ready pose's side of the singular home (SPEC 5). A short press in running cycles the modes of
-// config::kModeCycle.
-// A home command forgets the homing and, from running, goes back through wait_neutral.
-// The stick must be neutral for kNeutralHold_ms before any motion is enabled; a stick that
-// is not valid (at a rail: unplugged or broken) counts as not neutral.
+// arm goes on only where its steppers are still homed (their counts are their angles: `homed`),
+// making again a move to the ready pose that a stop cut short (the arm runs only from the
+// ready pose's side of the singular home, SPEC 5); otherwise it waits in wait_home for the
+// person again: a re-arm never starts a homing.
+// A home command in running stops the arm (drives off, wait_neutral) and homes it once the
+// stick has been neutral; a stop or a fault before the homing begins drops that request. A
+// short press in running cycles the modes of config::kModeCycle.
+// A stick that is not valid (at a rail: unplugged or broken) counts as not neutral.
 #pragma once
 
 #include <stdint.h>
@@ -24,7 +34,9 @@
 namespace wmra {
 namespace core {
 
-enum class ArmState : uint8_t { boot, wait_neutral, homing, to_ready, running, stopped, fault };
+// The values are the state frame's (docs/telemetry.md): a new state takes the next number.
+enum class ArmState : uint8_t { boot, wait_neutral, homing, to_ready, running, stopped, fault, wait_home };
+constexpr ArmState kLastArmState = ArmState::wait_home;
 
 inline const char* to_string(ArmState s) {
   switch (s) {
@@ -35,9 +47,16 @@ inline const char* to_string(ArmState s) {
     case ArmState::running: return "running";
     case ArmState::stopped: return "stopped";
     case ArmState::fault: return "fault";
+    case ArmState::wait_home: return "wait_home";
   }
   return "?";
 }
+
+// A home command starts a homing in wait_home (whose stick is valid and neutral) and stops the
+// arm to home it in running; the link refuses it in every other state, where it starts nothing
+// (in homing and to_ready a homing is under way or just done: cutting their drives at speed to
+// home again would let J1 coast).
+inline bool accepts_home(ArmState s) { return s == ArmState::wait_home || s == ArmState::running; }
 
 // what the rest of the firmware reports at one control tick
 struct SupervisorInputs {
@@ -46,11 +65,12 @@ struct SupervisorInputs {
   bool stick_valid;     // both stick channels inside their rails
   bool stick_neutral;   // inside the centre dead zone
   bool short_press;     // one-tick events from the button logic
-  bool long_press;
+  bool long_press;      // held for kButtonLongPress_ms
+  bool button_down;     // the button's debounced level
   bool rearm_command;  // from the serial link
   bool stop_command;
   bool home_command;
-  bool homed;          // every stepper has found its switch
+  bool homed;          // every stepper has found its switch and its count is still its angle
   bool at_ready;       // the move to the ready pose has arrived
   bool drives_at_rest;  // no stepper is still braking from a stop
 };
@@ -83,15 +103,14 @@ class Supervisor {
 
   // one control tick of dt_ms milliseconds
   void update(const SupervisorInputs& in, uint16_t dt_ms) {
-    // (not during the move to the ready pose, just homed, which the link refuses it in: kept
-    // as a flag, it homed the arm at some later re-arm, where the person expected it to stay)
-    if (in.home_command && state_ != ArmState::to_ready) homed_ = false;
     if (in.safety_pressed || in.stop_command) {
       state_ = ArmState::stopped;
+      home_requested_ = false;
       return;
     }
     if (in.faults != 0 && state_ != ArmState::stopped) {
       state_ = ArmState::fault;
+      home_requested_ = false;
       return;
     }
     const bool rearm = in.long_press || in.rearm_command;
@@ -103,13 +122,25 @@ class Supervisor {
       case ArmState::wait_neutral:
         // (a stepper still braking from a stop: its count is not yet where it rests)
         if (neutral_ms_ >= kNeutralHold_ms && in.drives_at_rest) {
-          state_ = !(in.homed && homed_) ? ArmState::homing : reached_ready_ ? ArmState::running : ArmState::to_ready;
+          state_ = home_requested_ ? ArmState::homing
+                   : !in.homed     ? ArmState::wait_home
+                   : reached_ready_ ? ArmState::running
+                                    : ArmState::to_ready;
+          home_requested_ = false;
+          released_waiting_ = !in.button_down;
         }
+        break;
+      case ArmState::wait_home:
+        if (neutral_ms_ < kNeutralHold_ms) {
+          state_ = ArmState::wait_neutral;
+        } else if ((in.long_press && released_waiting_) || in.home_command) {
+          state_ = ArmState::homing;
+        }
+        released_waiting_ |= !in.button_down;
         break;
       case ArmState::homing:
         if (in.homed) {
           state_ = ArmState::to_ready;
-          homed_ = true;
           reached_ready_ = false;
         }
         break;
@@ -123,6 +154,7 @@ class Supervisor {
         if (in.home_command) {
           state_ = ArmState::wait_neutral;
           neutral_ms_ = 0;
+          home_requested_ = true;
         } else if (in.short_press) {
           mode_index_ = (uint8_t)((mode_index_ + 1) % config::kModeCount);
         }
@@ -143,7 +175,8 @@ class Supervisor {
   ArmState state_ = ArmState::boot;
   uint8_t mode_index_ = 0;
   uint16_t neutral_ms_ = 0;
-  bool homed_ = true;  // false after a home command, until homing has finished again
+  bool home_requested_ = false;  // a home command in running, until the homing begins or a stop
+  bool released_waiting_ = false;  // the button was up at a tick of this wait_home: a press began in it
   bool reached_ready_ = false;  // the move to the ready pose after the last homing has arrived
 };
 

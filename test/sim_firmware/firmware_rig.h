@@ -2,6 +2,7 @@
 // simulator, the firmware's telemetry decoded as armsim decodes it, and commands to send it.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -11,7 +12,9 @@
 #include "armsim/firmware_telemetry.h"
 #include "app/settings.h"
 #include "armsim/run.h"
+#include "config/control_config.h"
 #include "core/supervisor.h"
+#include "kinematics/arm_model.h"
 #include "protocol/frame.h"
 #include "protocol/messages.h"
 #include "wiring/arm_simulator.h"
@@ -45,6 +48,30 @@ std::vector<uint8_t> message(const Msg& m, uint8_t seq) {
   return frame;
 }
 
+// a long press: held a little beyond kButtonLongPress_ms
+constexpr double kLongPress_s = config::kButtonLongPress_ms / 1000.0 + 0.2;
+
+// A scenario line (armsim's format) that asks for the homing as a host does: `home` at
+// kHomeAt_s, once the stick's calibration and neutral hold at power-up have put the arm in
+// wait_home (at about 0.6 s).
+constexpr double kHomeAt_s = 0.7;
+inline std::vector<uint8_t> home_frame() { return command(protocol::MsgType::cmd_home, 0xE0); }
+inline std::string home_event(double t_s = kHomeAt_s) {
+  static const char kHex[] = "0123456789abcdef";
+  std::string line = std::to_string(t_s) + " serial ";
+  for (uint8_t b : home_frame()) {
+    line += kHex[b >> 4];
+    line += kHex[b & 15];
+  }
+  return line + "\n";
+}
+
+// the same on a simulator run without a Rig: runs to t_s and sends `home`
+inline void ask_home_at(sim::ArmSimulator& sim, double t_s = kHomeAt_s) {
+  sim.run_until(t_s);
+  sim.send_serial(home_frame());
+}
+
 // A settings block as lib/drivers/eeprom_store.cpp writes it: "WA", the layout's version, the
 // size, the fields packed as avr-gcc packs them (little-endian, no padding), a CRC-16 of all
 // that. Version 1 is the layout without pot_calibrated.
@@ -69,6 +96,36 @@ inline std::vector<uint8_t> settings_block(const app::Settings& s, uint8_t versi
   block.push_back((uint8_t)(crc >> 8));
   return block;
 }
+
+// What the plant did while a test ran, sampled every millisecond: the joints' extremes, the
+// limit switches (as the board sees them, and the contacts themselves: a joint at or past its
+// limit), and whether any output was on.
+struct PlantWatch {
+  plant::Joints q_min, q_max;
+  bool switch_closed = false;  // a limit switch of J1..J5 as the Mega reads it
+  bool at_limit = false;       // a joint at or past its switch's angle
+  bool driven = false;         // a bridge on (the steppers' steps are counted apart)
+  void reset(const plant::Joints& q) {
+    q_min = q_max = q;
+    switch_closed = at_limit = driven = false;
+  }
+  void sample(const sim::ArmSimulator& sim) {
+    const plant::Joints q = sim.q();
+    for (int j = 0; j < 6; ++j) {
+      q_min[j] = std::min(q_min[j], q[j]);
+      q_max[j] = std::max(q_max[j], q[j]);
+      at_limit |= q[j] >= arm::q_max_rad(j) || q[j] <= arm::q_min_rad(j);
+    }
+    for (int j = 0; j < 5; ++j) switch_closed |= sim.plant().limit_closed(j, false) || sim.plant().limit_closed(j, true);
+    driven |= !sim.bridges_off();
+  }
+  double travel_rad(int j) const { return q_max[j] - q_min[j]; }
+  double largest_travel_rad() const {
+    double m = 0;
+    for (int j = 0; j < 6; ++j) m = std::max(m, travel_rad(j));
+    return m;
+  }
+};
 
 struct Rig {
   sim::ArmSimulator sim;
@@ -97,6 +154,27 @@ struct Rig {
       if (state() == s) return sim.time_s();
     }
     return -1;
+  }
+  // SPEC 5: after power-up and every reset nothing moves until the person asks. This asks as the
+  // person does: it waits for wait_home (the stick neutral for the hold), presses the button
+  // long (no reply for a test to count) and runs until the arm runs from the ready pose, at most
+  // until t_max_s; the time, or -1.
+  double start(double t_max_s) {
+    if (run_until_state(core::ArmState::wait_home, t_max_s) < 0) return -1;
+    press_button(kLongPress_s);
+    return run_until_state(core::ArmState::running, t_max_s);
+  }
+  // the host's way: runs until wait_home and sends `home` there; the time, or -1
+  double ask_home(double t_max_s) {
+    const double t = run_until_state(core::ArmState::wait_home, t_max_s);
+    if (t >= 0) sim.send_serial(home_frame());
+    return t;
+  }
+  // the joystick button held for `held_s` from now (a long press at kButtonLongPress_ms)
+  void press_button(double held_s) {
+    sim.set_button(true);
+    run_to(sim.time_s() + held_s);
+    sim.set_button(false);
   }
   core::ArmState state() const {
     return telemetry.state() < 0 ? core::ArmState::boot : (core::ArmState)telemetry.state();

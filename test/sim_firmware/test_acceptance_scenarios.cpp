@@ -24,41 +24,12 @@ using test::command;
 using test::distance_mm;
 using test::kFirmware;
 using test::message;
+using test::PlantWatch;
 using test::Rig;
 
 constexpr double kDeg = arm::kPi / 180;
 
 bool has_fault(const protocol::StateMsg& s, uint8_t bit) { return (s.faults & core::fault_mask(bit)) != 0; }
-
-// What the plant did while a test ran, sampled every millisecond: the joints' extremes, the
-// limit switches (as the board sees them, and the contacts themselves: a joint at or past its
-// limit), and whether any output was on.
-struct PlantWatch {
-  plant::Joints q_min, q_max;
-  bool switch_closed = false;  // a limit switch of J1..J5 as the Mega reads it
-  bool at_limit = false;       // a joint at or past its switch's angle
-  bool driven = false;         // a bridge on (the steppers' steps are counted apart)
-  void reset(const plant::Joints& q) {
-    q_min = q_max = q;
-    switch_closed = at_limit = driven = false;
-  }
-  void sample(const sim::ArmSimulator& sim) {
-    const plant::Joints q = sim.q();
-    for (int j = 0; j < 6; ++j) {
-      q_min[j] = std::min(q_min[j], q[j]);
-      q_max[j] = std::max(q_max[j], q[j]);
-      at_limit |= q[j] >= arm::q_max_rad(j) || q[j] <= arm::q_min_rad(j);
-    }
-    for (int j = 0; j < 5; ++j) switch_closed |= sim.plant().limit_closed(j, false) || sim.plant().limit_closed(j, true);
-    driven |= !sim.bridges_off();
-  }
-  double travel_rad(int j) const { return q_max[j] - q_min[j]; }
-  double largest_travel_rad() const {
-    double m = 0;
-    for (int j = 0; j < 6; ++j) m = std::max(m, travel_rad(j));
-    return m;
-  }
-};
 
 // A rig in running with its plant watched, at rest with the stick neutral
 struct Running {
@@ -67,7 +38,7 @@ struct Running {
   double t_running_s;
   double t_rest_s = -1;  // when the arm came to rest in running, -1: it did not within 2 s
   explicit Running(const plant::Joints& initial_q = test::kNearHome) : rig(kFirmware, initial_q) {
-    t_running_s = rig.run_until_state(core::ArmState::running, 12.0);
+    t_running_s = rig.start(12.0);
     if (t_running_s < 0) return;
     // the steppers' rotors settle behind the last steps of the move to the ready pose (J1: 5
     // mrad in 0.3 s); at rest, no joint moves 0.05 mrad in 0.2 s (a creep of 0.25 mrad/s would)

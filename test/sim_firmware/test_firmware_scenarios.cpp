@@ -32,7 +32,7 @@ using test::kTestFirmware;
 
 TEST(FirmwareStartUp, HomesAndReachesTheReadyPose) {
   Rig rig(kFirmware);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0) << "the firmware did not reach running; last state "
                           << core::to_string(rig.state());
   ASSERT_FALSE(rig.telemetry.boots().empty());
@@ -68,10 +68,12 @@ TEST(FirmwareStartUp, AMoveToTheReadyPoseCutShortIsMadeAgainAfterTheRearm) {
   double t_reported = 0;
   {
     Rig first(kFirmware);
+    ASSERT_GT(first.ask_home(12.0), 0);
     t_reported = first.run_until_state(core::ArmState::to_ready, 12.0);
     ASSERT_GT(t_reported, 0);
   }
   Rig rig(kFirmware);
+  ASSERT_GT(rig.ask_home(12.0), 0);
   rig.run_to(t_reported - 0.05);
   const int64_t j5_at_rest = rig.sim.measurements().steps[1].commanded;
   double t_press = -1;
@@ -113,7 +115,7 @@ TEST(FirmwareStartUp, AMoveToTheReadyPoseCutShortIsMadeAgainAfterTheRearm) {
 // goes on without homing, and the firmware's stepper angles are the joints'.
 TEST(FirmwareSafety, S5SafetyButtonHoldsTheArmUntilReleasedAndRearmed) {
   Rig rig(kFirmware);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0);
   rig.sim.set_joystick(-1.0, 0.0);
   rig.run_to(t_running + 0.8);
@@ -178,7 +180,7 @@ TEST(FirmwareSafety, SafetyButtonOutputsStayOffWhateverThePhaseOfTheLoop) {
   std::vector<std::string> redriven;
   for (int k = 0; k < 40; ++k) {
     Rig rig(kFirmware);
-    const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+    const double t_running = rig.start(12.0);
     ASSERT_GT(t_running, 0);
     rig.sim.set_joystick(1.0, 0.0);
     const double t_press = std::floor((t_running + 0.5) * 1000.0) / 1000.0 + k * 50e-6;
@@ -212,7 +214,7 @@ TEST(FirmwareSafety, SafetyButtonOutputsStayOffWhateverThePhaseOfTheLoop) {
 // watchdog reset, the outputs off up to it, and the cause reported.
 TEST(FirmwareSafety, S10HangEndsInWatchdogResetReported) {
   Rig rig(kTestFirmware);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0);
   rig.sim.set_joystick(1, 0);
   rig.run_to(t_running + 0.5);
@@ -248,7 +250,7 @@ TEST(FirmwareSafety, S10HangEndsInWatchdogResetReported) {
 // (lib/drivers/watchdog.h), power-on at first, then the hang's watchdog reset
 TEST(FirmwareSafety, S10BehindTheStockBootloaderTheCauseIsInferred) {
   Rig rig(kTestFirmware, test::kNearHome, true);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0);
   ASSERT_GE(rig.telemetry.boots().size(), 1u);
   EXPECT_EQ(rig.telemetry.boots()[0].reset_cause, 0x80 | 1) << "inferred power-on: no trace in RAM";
@@ -288,7 +290,7 @@ TEST(FirmwareCalibration, PotCalibrationByCommandIsCheckedKeptAndUndone) {
   const int16_t config_min = (int16_t)(config::kPotAtMin_mV * 1024L * 16 / config::kAdcRef_mV);
   const int16_t config_max = (int16_t)(config::kPotAtMax_mV * 1024L * 16 / config::kAdcRef_mV);
 
-  ASSERT_GT(rig.run_until_state(core::ArmState::running, 12.0), 0);
+  ASSERT_GT(rig.start(12.0), 0);
   ASSERT_EQ(ask(MsgType::cmd_get_calibration, {}), ReplyStatus::ok);
   ASSERT_EQ(rig.telemetry.calibrations().size(), 1u);
   for (int d = 0; d < 3; ++d) {
@@ -377,7 +379,7 @@ TEST(FirmwareLink, ReceiveOverrunsReportedWhenTheLoopFallsBehindAFlood) {
   constexpr double kCommandEvery_s = 0.75e-3;  // 0.69 ms of the line each: as fast as simavr takes them
   constexpr uint8_t kStall_ms = 8;
   Rig rig(kTestFirmware);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0);
   const uint8_t pct = rig.last().speed_scale_pct;
   uint8_t seq = 0;
@@ -432,7 +434,7 @@ TEST(FirmwareCalibration, VersionOneSettingsKeepTheirPoses) {
   ASSERT_EQ(block.size(), 5u + 109u + 2u);
   rig.sim.set_eeprom(block);
 
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0);
   ASSERT_FALSE(rig.telemetry.boots().empty());
   EXPECT_EQ(rig.telemetry.boots()[0].calibration, (uint8_t)protocol::Calibration::eeprom);
@@ -463,7 +465,7 @@ TEST(FirmwareCalibration, PosesBeyondTheSoftStopsAreDropped) {
   settings.pose_valid = 0x07;
   rig.sim.set_eeprom(test::settings_block(settings));
 
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0);
   EXPECT_EQ(rig.telemetry.boots()[0].calibration, (uint8_t)protocol::Calibration::eeprom);
   for (int j = 0; j < 6; ++j) EXPECT_NEAR(rig.sim.q()[j] * 180 / M_PI, ready_deg[j], 1.5) << "the config's ready pose: joint " << j + 1;
@@ -490,7 +492,7 @@ TEST(FirmwareStick, HeldAtPowerUpIsRefusedAgainstTheStoredCentre) {
   Rig rig(kTestFirmware);
   uint8_t seq = 1;
   const auto ask = [&](MsgType type, std::vector<uint8_t> payload) { return ask_firmware(rig, seq, type, payload); };
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0);
   rig.sim.set_joystick(0.5, 0.0);
   rig.run_to(t_running + 0.3);
@@ -517,7 +519,7 @@ TEST(FirmwareStick, HeldAtPowerUpIsRefusedAgainstTheStoredCentre) {
   EXPECT_FALSE(left_wait_neutral) << "calibration refused: no homing while the stick is held";
 
   rig.sim.set_joystick(0.0, 0.0);  // let go
-  const double t_running_again = rig.run_until_state(core::ArmState::running, t_release + 12.0);
+  const double t_running_again = rig.start(t_release + 12.0);
   ASSERT_GT(t_running_again, 0) << "released: calibrated and on to running";
   rig.run_to(t_running_again + 0.5);
   const armsim::TrajectoryRow start = rig.pose();
@@ -544,7 +546,7 @@ TEST(FirmwareStick, AFullPushOfAnOffCentreStickIsNoRail) {
   };
   {
     Rig rig(board_with_stick_off_by(config::kStickCentreTolerance_counts - 3));
-    const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+    const double t_running = rig.start(12.0);
     ASSERT_GT(t_running, 0) << "a centre within the tolerance is taken";
     const armsim::TrajectoryRow start = rig.pose();
     rig.sim.set_joystick(1.0, 0.0);
@@ -583,7 +585,7 @@ TEST(FirmwareStick, WithoutAStoredCentreTheNominalCheckAsBefore) {
   ASSERT_EQ(block.size(), 5u + 110u + 2u);
   rig.sim.set_eeprom(block);
   rig.sim.set_joystick(0.04, 0.0);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0) << "the held stick is taken as the centre, as before";
   EXPECT_EQ(rig.telemetry.boots()[0].calibration, (uint8_t)protocol::Calibration::eeprom);
   rig.sim.send_serial(command(protocol::MsgType::cmd_get_calibration, 1));
@@ -602,7 +604,7 @@ double run_with_slot_1_stored(Rig& rig) {
       settings.pose_angle[slot][j] = (int32_t)std::llround((slot == 1 ? slot1_deg : ready_deg)[j] * M_PI / 180 * core::kAngleCountsPerRad);
   settings.pose_valid = 0x03;
   rig.sim.set_eeprom(test::settings_block(settings));
-  return rig.run_until_state(core::ArmState::running, 12.0);
+  return rig.start(12.0);
 }
 
 // A move to a stored pose that the person takes over with the stick: the steppers brake to rest
@@ -688,7 +690,7 @@ struct SlotOneAfterPowerUp {
 SlotOneAfterPowerUp power_up_and_goto_slot_1(const std::vector<uint8_t>& eeprom) {
   Rig rig(kFirmware);
   rig.sim.set_eeprom(eeprom);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   SlotOneAfterPowerUp r;
   if (t_running < 0 || rig.telemetry.boots().empty()) return r;
   r.calibration = rig.telemetry.boots()[0].calibration;
@@ -783,7 +785,7 @@ TEST(FirmwareSettings, ABurstOfSavesEndsInTheNewestSettings) {
 // a few mm on J1's stepper (the plant's rotor on its magnetic spring) and comes to rest.
 TEST(FirmwareSafety, AStreamThatStopsArrivingStopsTheArm) {
   Rig rig(kFirmware);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0);
   protocol::VelocityCmd v{};
   v.v_mm_s[0] = -100;
@@ -827,7 +829,7 @@ TEST(FirmwareSafety, AStreamThatStopsArrivingStopsTheArm) {
 // Clamped axis by axis (the image before), the hand went at 177.5 mm/s.
 TEST(FirmwareSafety, AStreamedVelocityIsLimitedAsALength) {
   Rig rig(kFirmware);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0);
   protocol::VelocityCmd v{};
   v.v_mm_s[0] = v.v_mm_s[2] = 150;
@@ -856,7 +858,7 @@ TEST(FirmwareSafety, AStreamedVelocityIsLimitedAsALength) {
 // streaming (its commands refused), and a stream drives again only after a pause of the timeout.
 TEST(FirmwareSafety, ADeflectedStickTakesAStreamOver) {
   Rig rig(kFirmware);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0);
   uint8_t seq = 1;
   protocol::VelocityCmd v{};

@@ -25,7 +25,8 @@ using namespace wmra;
 using armsim::TrajectoryRow;
 
 const std::string kFirmware = std::string(FIRMWARE_DIR) + "/wmra_firmware.elf";
-// near the homing switches: start-up (homing, the ready pose) ends in running at about 5 s
+// near the homing switches: start-up (`home` at test::kHomeAt_s, homing, the ready pose) ends in
+// running at about 5.2 s
 const std::string kInit = "init 1.45 0.3 -1.0 0.6 -1.45 0.05\n";
 constexpr double kStickAt_s = 6.0;  // every scenario's first stick input, in running
 constexpr double kHandSpeed_m_s = 0.15, kWristSpeed_rad_s = 0.8;
@@ -48,7 +49,7 @@ void run(const std::string& events, ScenarioRun& r, const std::string& init = kI
   options.plant.seed = noise_seed;
   options.telemetry = &r.telemetry;
   options.eeprom = eeprom;
-  r.result = armsim::run_scenario(armsim::parse_scenario(init + events), options);
+  r.result = armsim::run_scenario(armsim::parse_scenario(init + test::home_event() + events), options);
   ASSERT_TRUE(r.result.completed);
   ASSERT_EQ(r.at(stick_at_s).state, (int)core::ArmState::running) << "not running when the stick moves";
   for (int k = 0; k < 3; ++k) EXPECT_EQ(r.result.measurements.steps[k].lost, 0) << "stepper " << k;

@@ -71,7 +71,7 @@ JointMotion joint_motion(const std::vector<Sample>& samples, double t0_s, double
 
 TEST(SingularityScenario, S7StretchingTheElbowStaysWithinJointSpeedsAndDrivesBack) {
   Rig rig(kFirmware);
-  const double t_running = rig.run_until_state(core::ArmState::running, 12.0);
+  const double t_running = rig.start(12.0);
   ASSERT_GT(t_running, 0) << "never running";
   ASSERT_EQ(rig.last().mode, (uint8_t)config::Mode::xy);
   const double t_out = t_running + 1.0;  // the steppers' rotors settle after the move to the ready pose

@@ -51,7 +51,7 @@ class S11 : public ::testing::TestWithParam<StopCase> {};
 TEST_P(S11, TheArmHoldsWhereItStopped) {
   const StopCase& c = GetParam();
   Rig rig(kFirmware);
-  ASSERT_GT(rig.run_until_state(core::ArmState::running, 12.0), 0);
+  ASSERT_GT(rig.start(14.0), 0);
   for (int i = 0; i < c.mode_presses; ++i) press_button(rig);
   uint8_t seq = 1;
   const double t_drive = rig.sim.time_s();

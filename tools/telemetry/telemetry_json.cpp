@@ -149,7 +149,7 @@ void add_command_argument(Object& o, const Frame& f) {
 }  // namespace
 
 std::string state_name(uint8_t state) {
-  return state <= (uint8_t)core::ArmState::fault ? core::to_string((core::ArmState)state)
+  return state <= (uint8_t)core::kLastArmState ? core::to_string((core::ArmState)state)
                                                   : "unknown_" + std::to_string(state);
 }
 std::string mode_name(uint8_t mode) { return code_name(mode, kModeNames); }
