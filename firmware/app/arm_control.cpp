@@ -15,6 +15,7 @@
 #include "core/faults.h"
 #include "core/gravity.h"
 #include "core/homing.h"
+#include "core/joint_move.h"
 #include "core/joint_acceleration.h"
 #include "core/joint_map.h"
 #include "core/resolved_rate.h"
@@ -268,9 +269,13 @@ uint16_t g_overrun_ms;  // reported while > 0: long enough for telemetry to see 
 constexpr uint16_t kOverrunReport_ms = 500;
 bool g_homed;
 bool g_at_target;
-bool g_moving;  // a joint move in running (to a stored pose)
-bool g_braking;  // a move the person took over: its steppers braking to rest before the stick drives
-fx::Angle g_target[6];
+bool g_moving;     // a joint move in running (to a stored pose), or the person taking one over
+bool g_line_done;  // the move's references are on its target: the joints settle onto it
+core::JointMove g_move;
+kin::Vec3<fx::Real> g_move_p;  // the hand at the move's last measurement (hand_per_lead)
+int32_t g_move_lead_at;        // and the lead joint's reference then
+bool g_move_p_valid;
+fx::Unit g_move_hand;          // the last measurement (0: none yet)
 fx::Unit g_speed_scale;  // set_speed_scale(): 100 % from start() on
 int32_t g_gripper_us_q15;  // pulse width, us x 32768
 bool g_gripper_driven;     // the servo has a pulse: the person has moved the gripper since power-up
@@ -354,76 +359,6 @@ WMRA_COLD void drives_on() {
   }
   for (uint8_t i = 0; i < 3; ++i) g_q.set(kStepperJoint[i], kStepperMap[i].angle(steppers::rate(i).position_steps()));
   inputs::enable_unless_stopped(&outputs_on);
-}
-
-// --- joint-space moves (to the ready pose, to a stored pose)
-
-// The configuration's derived numbers are constexpr tables: computed at run time (a joint is a
-// run-time index) they were float arithmetic, 4 KB of start-up code and the float library.
-constexpr int32_t move_speed_steps_s(uint8_t i) {
-  return steps_per_s(i, (int16_t)(kJointSpeedLimit_crad_s[kStepperJoint[i]] * kJointMoveSpeed.num / kJointMoveSpeed.den));
-}
-constexpr control::MoveSpeed kMoveSpeed[3] = {control::move_speed(kRampConstants[0], (uint32_t)move_speed_steps_s(0)),
-                                               control::move_speed(kRampConstants[1], (uint32_t)move_speed_steps_s(1)),
-                                               control::move_speed(kRampConstants[2], (uint32_t)move_speed_steps_s(2))};
-
-int32_t g_target_steps[3];  // the move's stepper targets in steps (begin_move: converted once a move)
-
-WMRA_COLD void begin_move(const int32_t* angles) {
-  steppers::count();  // move_tick reads the counts before this tick's service
-  for (uint8_t j = 0; j < 6; ++j) {
-    g_target[j].raw = angles[j];
-    g_qd[j] = fx::Real{0};
-  }
-  for (uint8_t i = 0; i < 3; ++i) {
-    g_target_steps[i] = kStepperMap[i].steps(g_target[kStepperJoint[i]]);
-    steppers::rate(i).move_to(g_target_steps[i], kMoveSpeed[i]);
-  }
-  g_at_target = false;
-}
-
-// a DC joint's largest step per tick in a joint-space move (Angle counts; a table, since the
-// joint is a run-time index and the formula would be float arithmetic on the AVR)
-constexpr int32_t move_step_per_tick(uint8_t j) {
-  return (int32_t)(kJointSpeedLimit_crad_s[j] / 100.0 * kJointMoveSpeed.num / kJointMoveSpeed.den * core::kAngleCountsPerRad /
-                   kLoopHz) + 1;
-}
-constexpr int32_t kMoveStepPerTick[3] = {move_step_per_tick(kDcJoint[0]), move_step_per_tick(kDcJoint[1]),
-                                         move_step_per_tick(kDcJoint[2])};
-
-// A stepper's reference in a move is its step count; true once it is at rest on its target.
-// One copy per stepper: the angle's Scale a constant.
-template <uint8_t i>
-bool move_stepper() {
-  const int32_t position = steppers::rate(i).position_steps();
-  g_q.set(kStepperJoint[i], core::StepperMap::angle_of(position, kStepperMap[i].angle_per_step));
-  return position == g_target_steps[i] && !steppers::running(i);
-}
-
-// A move's tick, every tick of it (the moves are the heaviest iterations besides the stick's:
-// not built for size). Arrived: every stepper at rest on its target, every DC reference on its
-// target and every DC joint's pot within the tolerance of it; the pots' angles (a conversion
-// each) only once the rest has arrived.
-WMRA_COLD void move_tick() {
-  bool arrived = move_stepper<0>();
-  arrived &= move_stepper<1>();
-  arrived &= move_stepper<2>();
-  for (uint8_t d = 0; d < 3; ++d) {
-    const uint8_t j = kDcJoint[d];
-    const int32_t max_step = kMoveStepPerTick[d];
-    int32_t step = g_target[j].raw - g_q.q.q[j].raw;
-    if (step > max_step) step = max_step;
-    if (step < -max_step) step = -max_step;
-    g_q.set(j, fx::Angle{g_q.q.q[j].raw + step});
-    g_qd[j] = fx::Real{step * kRealPerAngleCountPerTick};
-    if (g_q.q.q[j].raw != g_target[j].raw) arrived = false;
-  }
-  constexpr int32_t kTolerance = (int32_t)(kArrivedTolerance_mdeg / 1000.0 / 360.0 * fx::kAngleTurn);
-  for (uint8_t d = 0; arrived && d < 3; ++d) {
-    const int32_t error = g_dc[d].pot.angle(g_dc[d].units).raw - g_target[kDcJoint[d]].raw;
-    if (error > kTolerance || error < -kTolerance) arrived = false;
-  }
-  g_at_target = arrived;
 }
 
 // --- homing
@@ -596,6 +531,111 @@ __attribute__((noinline)) void motion_tick(const control::JoystickOutput& stick,
   g_q.advance_ticks(ticks);
 }
 
+// --- joint-space moves (to the ready pose, to a stored pose: core/joint_move.h)
+
+constexpr fx::Real move_speed(uint8_t j) {
+  return fx::real(Ratio{(int32_t)kJointSpeedLimit_crad_s[j] * kJointMoveSpeed.num, 100 * (int32_t)kJointMoveSpeed.den});
+}
+constexpr fx::Real joint_accel(uint8_t j) { return fx::real(Ratio{kJointAccelLimit_crad_s2[j], 100}); }
+// the farthest the frame-6 origin can be from each joint's axis, over core::kReachScale_m: J1
+// the arm's reach from the base axis; J2 a2 + a3 + a4 + d6; J3 a3 + a4 + d6; J4 a4 + d6; J5 d6;
+// J6 none (the origin is on its axis)
+constexpr fx::Unit reach(double m) { return fx::Unit{(int16_t)(m / core::kReachScale_m * 32768.0)}; }
+constexpr core::JointMoveLimits kMoveLimits{
+    {move_speed(0), move_speed(1), move_speed(2), move_speed(3), move_speed(4), move_speed(5)},
+    {joint_accel(0), joint_accel(1), joint_accel(2), joint_accel(3), joint_accel(4), joint_accel(5)},
+    {reach(arm::a1_m + arm::a2_m + arm::a3_m + arm::a4_m + arm::d6_m), reach(arm::a2_m + arm::a3_m + arm::a4_m + arm::d6_m),
+     reach(arm::a3_m + arm::a4_m + arm::d6_m), reach(arm::a4_m + arm::d6_m), reach(arm::d6_m), fx::Unit{0}},
+    fx::real(Ratio{kMaxHandSpeed_m_s.num * 1000, (int32_t)(kMaxHandSpeed_m_s.den * 1000 * core::kReachScale_m)}),
+    fx::real(kMaxWristSpeed_rad_s)};
+static_assert(arm::a1_m + arm::a2_m + arm::a3_m + arm::a4_m + arm::d6_m < core::kReachScale_m, "the reaches as Units below 1");
+
+// At the line's end each stepper settles onto its target step by a position move (tracking
+// the reference there, a step's error asks for the slowest speed, whose scheduled edge then
+// overshoots by a step: it hunts), at most at a tenth of its joint's speed limit.
+constexpr control::MoveSpeed settle_speed(uint8_t i) {
+  return control::move_speed(kRampConstants[i], (uint32_t)steps_per_s(i, (int16_t)(kJointSpeedLimit_crad_s[kStepperJoint[i]] / 10)));
+}
+constexpr control::MoveSpeed kSettleSpeed[3] = {settle_speed(0), settle_speed(1), settle_speed(2)};
+
+// A move from the references to `angles` (its line's shares follow over the next ticks)
+WMRA_COLD void begin_move(const int32_t* angles) {
+  int32_t from[6];
+  for (uint8_t j = 0; j < 6; ++j) {
+    from[j] = g_q.q.q[j].raw;
+    g_qd[j] = fx::Real{0};
+  }
+  g_move.begin(from, angles);
+  g_at_target = g_line_done = g_move_p_valid = false;
+  g_move_hand = fx::Unit{0};
+}
+
+int32_t target_steps(uint8_t i) { return kStepperMap[i].steps(fx::Angle{g_move.target()[kStepperJoint[i]]}); }
+
+// The hand's speed per unit of the move's lead joint's, from the hand's position (the references'
+// FK) now and at the last measurement, once the lead has moved 32 counts (0.8 mrad) since:
+// |dp| / dtheta_lead, as a Unit of m/rad over core::kReachScale_m (0: none yet).
+WMRA_COLD fx::Unit hand_per_lead() {
+  const kin::Vec3<fx::Real> p = kin::hand_position<Fixed>(kin::jacobian_trig<Fixed>(g_q.q));
+  const int32_t lead_at = g_q.q.q[g_move.lead()].raw;
+  if (g_move_p_valid) {
+    const uint32_t dtheta = (uint32_t)(lead_at > g_move_lead_at ? lead_at - g_move_lead_at : g_move_lead_at - lead_at);
+    // the components in Q19 m (within 16 bits: at most 7 mm in 4 ticks at the joints' limits)
+    const int16_t dx = (int16_t)((p.x.raw - g_move_p.x.raw) >> 4), dy = (int16_t)((p.y.raw - g_move_p.y.raw) >> 4),
+                  dz = (int16_t)((p.z.raw - g_move_p.z.raw) >> 4);
+    const uint32_t dp_q19 = fx::isqrt32((uint32_t)fx::mul_ss(dx, dx) + (uint32_t)fx::mul_ss(dy, dy) + (uint32_t)fx::mul_ss(dz, dz));
+    if (dtheta < 32) return g_move_hand;  // the baseline kept until the lead has moved enough
+    // |dp| 2^-19 m / (dtheta / kAngleCountsPerRad rad) / 1.25 m x 2^15
+    constexpr uint16_t kScale = (uint16_t)(core::kAngleCountsPerRad * 32768.0 / 524288.0 / core::kReachScale_m + 1);
+    const uint32_t q15 = fx::mul_uu((uint16_t)(dp_q19 > 0xFFFF ? 0xFFFF : dp_q19), kScale) / dtheta;
+    g_move_hand = fx::Unit{(int16_t)(q15 > 32767 ? 32767 : q15 == 0 ? 1 : q15)};
+  }
+  g_move_p = p;
+  g_move_lead_at = lead_at;
+  g_move_p_valid = true;
+  return g_move_hand;
+}
+
+// A move's tick, every tick of it: the line's shares first (one a tick), then its speed cap
+// every fourth tick (phases 1 and 5, which carry neither the holding update nor the governor),
+// the references along the line, the steppers tracking them. Arrived: the references on the
+// target, every stepper at rest on it and every DC joint's pot within the tolerance of it (the
+// pots' angles, a conversion each, only then).
+WMRA_COLD void move_tick(uint8_t phase) {
+  if (!g_move.prepared()) {
+    if (g_move.prepare(kMoveLimits)) g_move.set_speed_cap(kMoveLimits, g_drives, g_speed_scale, tracking_factor());
+  } else if (!g_line_done) {
+    if ((phase & 3) == 1) g_move.set_speed_cap(kMoveLimits, g_drives, g_speed_scale, tracking_factor(), hand_per_lead());
+    int32_t references[6];
+    for (uint8_t j = 0; j < 6; ++j) references[j] = g_q.q.q[j].raw;
+    if (g_move.tick(references, g_qd)) {
+      for (uint8_t j = 0; j < 6; ++j) {
+        g_q.set(j, fx::Angle{g_move.target()[j]});
+        g_qd[j] = fx::Real{0};
+      }
+      for (uint8_t i = 0; i < 3; ++i) steppers::rate(i).move_to(target_steps(i), kSettleSpeed[i]);
+      g_line_done = true;
+    } else {
+      g_q.advance_ticks(1);
+    }
+  }
+  if (!g_line_done) {
+    track_stepper<0>();
+    track_stepper<1>();
+    track_stepper<2>();
+  }
+  bool arrived = g_line_done;
+  for (uint8_t i = 0; arrived && i < 3; ++i) {
+    if (steppers::rate(i).position_steps() != target_steps(i) || steppers::running(i)) arrived = false;
+  }
+  constexpr int32_t kTolerance = (int32_t)(kArrivedTolerance_mdeg / 1000.0 / 360.0 * fx::kAngleTurn);
+  for (uint8_t d = 0; arrived && d < 3; ++d) {
+    const int32_t error = g_dc[d].pot.angle(g_dc[d].units).raw - g_move.target()[kDcJoint[d]];
+    if (error > kTolerance || error < -kTolerance) arrived = false;
+  }
+  g_at_target = arrived;
+}
+
 // Every joint's reference where the joint is: a DC joint that arrived within
 // kArrivedTolerance_mdeg of a move's target would otherwise go on to it with the stick neutral
 // (J3 ended the move to the ready pose 13 mrad short and crept there over 3 s).
@@ -607,26 +647,6 @@ WMRA_COLD void start_running() {
   g_v_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
   g_moving = false;
-  g_braking = false;
-}
-
-// The person takes over a move: its steppers brake to rest on their ramps before the stick
-// drives (their ramps cut at move speed, J1, carrying the arm, lost 128 steps and the firmware
-// no longer knew where it was); the DC joints' references stand where they are (the worm holds).
-WMRA_COLD void brake_move() {
-  steppers::count();  // brake_tick reads the counts before this tick's service
-  for (uint8_t i = 0; i < 3; ++i) steppers::rate(i).stop();
-  for (uint8_t d = 0; d < 3; ++d) g_qd[kDcJoint[d]] = fx::Real{0};
-  g_braking = true;
-}
-
-WMRA_COLD void brake_tick() {
-  bool at_rest = true;
-  for (uint8_t i = 0; i < 3; ++i) {
-    g_q.set(kStepperJoint[i], kStepperMap[i].angle(steppers::rate(i).position_steps()));
-    if (steppers::running(i)) at_rest = false;
-  }
-  if (at_rest) start_running();
 }
 
 WMRA_COLD void enter(core::ArmState state) {
@@ -1066,7 +1086,7 @@ void iterate(Requests& rq, uint8_t ticks) {
       homing_tick(switches);
       break;
     case core::ArmState::to_ready:
-      move_tick();
+      move_tick(phase);
       break;
     case core::ArmState::running: {
       // A stick at a rail (unplugged, broken) moves nothing (SPEC 6), whatever else commands: a
@@ -1083,17 +1103,13 @@ void iterate(Requests& rq, uint8_t ticks) {
       if (pose_slot >= 0 && stick_valid && (g_settings->pose_valid & (1 << pose_slot))) {
         begin_move(g_settings->pose_angle[pose_slot]);
         g_moving = true;
-        g_braking = false;
       }
-      if (g_moving && (!stick_neutral || !stick_valid || rq.velocity_fresh)) {  // the person takes over, or no stick: the move brakes
-        g_moving = false;
-        brake_move();
-      }
+      // the person takes over, or no stick: the move slows to rest along its line, then the
+      // stick drives (the steppers, carrying the arm, are never cut at speed)
+      if (g_moving && (!stick_neutral || !stick_valid || rq.velocity_fresh)) g_move.brake();
       if (g_moving) {
-        move_tick();
-        if (g_at_target) start_running();
-      } else if (g_braking) {
-        brake_tick();
+        move_tick(phase);
+        if (g_at_target || (g_move.braking() && g_move.lead_speed().raw == 0)) start_running();
       } else {
         if (slot == kMotionSlot) {
           motion_tick(stick, rq, g_motion_elapsed);
@@ -1123,7 +1139,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   // ramps' state a tick after a command). Nothing else reads the counts while the stick drives;
   // the readers outside it (the report, the drives off, a move or a brake begun) count first.
   g_ramp_elapsed = control::add_saturated_u8(g_ramp_elapsed, ticks);
-  if (stepper_slot || state != core::ArmState::running || g_moving || g_braking) {
+  if (stepper_slot || state != core::ArmState::running || g_moving) {
     steppers::service(g_ramp_elapsed);
     g_ramp_elapsed = 0;
   } else if ((g_phase + 1) % kStepperPeriod_ticks == kStepperSlot) {  // (the global: phase kept live to here cost ~70 cycles)

@@ -164,7 +164,7 @@ struct IterationRun {
       config::Mode mode;
       double x, y;
     } kModes[3] = {{config::Mode::xy, 1, 0}, {config::Mode::xz, 0, 1}, {config::Mode::r1, 0.7, 0.7}};
-    double t = 6.0, from_s[3];
+    double t = 9.0, from_s[3];  // (running from about 7.5 s)
     test::ask_home_at(sim);
     sim.run_until(t);
     for (int k = 0; k < 3; ++k) {

@@ -607,15 +607,16 @@ double run_with_slot_1_stored(Rig& rig) {
   return rig.start(12.0);
 }
 
-// A move to a stored pose that the person takes over with the stick: the steppers brake to rest
-// on their ramps, then the stick drives. (Their ramps were cut at move speed: J1, carrying the
-// arm at 0.4 rad/s, lost steps and the firmware no longer knew where it was.)
+// A move to a stored pose that the person takes over with the stick: the move slows to rest
+// along its line, then the stick drives; no step is lost.
 TEST(FirmwarePoses, AMoveTakenOverByTheStickBrakesWithoutLosingSteps) {
   Rig rig(kFirmware);
   const double t_running = run_with_slot_1_stored(rig);
   ASSERT_GT(t_running, 0);
   rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 1, {1}));
-  const double t_takeover = t_running + 1.0;  // J1 at its move speed (0.4 rad/s), 0.3 rad to go
+  // J1 moving (at the move's pace: the hand at most at the stick's speed, J1 within its stop's
+  // bound, ~0.1 rad/s), 0.2 rad to go
+  const double t_takeover = t_running + 2.5;
   rig.run_to(t_takeover);
   const double q1_at_takeover = rig.sim.q()[0];
   ASSERT_LT(q1_at_takeover * 180 / M_PI, 65.0) << "J1 is moving";
@@ -639,17 +640,18 @@ TEST(FirmwarePoses, NoMoveNorStreamWithTheStickAtARail) {
   Rig rig(kFirmware);
   const double t_running = run_with_slot_1_stored(rig);
   ASSERT_GT(t_running, 0);
+  rig.run_to(t_running + 1.0);  // J1's rotor settled on its last step of the move to the ready pose
   rig.sim.set_joystick_unplugged(true);
-  rig.run_to(t_running + 0.1);
+  rig.run_to(t_running + 1.1);
   const armsim::TrajectoryRow unplugged = rig.pose();
   rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 1, {1}));
   protocol::VelocityCmd v{};
   v.v_mm_s[0] = 100;
   for (int k = 0; k < 5; ++k) {
-    rig.run_to(t_running + 0.15 + 0.05 * k);
+    rig.run_to(t_running + 1.15 + 0.05 * k);
     rig.sim.send_serial(test::message(v, (uint8_t)(2 + k)));
   }
-  rig.run_to(t_running + 1.5);
+  rig.run_to(t_running + 2.5);
   ASSERT_EQ(rig.telemetry.replies().size(), 6u);
   for (const protocol::ReplyMsg& r : rig.telemetry.replies())
     EXPECT_EQ(r.status, (uint8_t)protocol::ReplyStatus::refused) << "command seq " << (int)r.command_seq;
@@ -658,9 +660,9 @@ TEST(FirmwarePoses, NoMoveNorStreamWithTheStickAtARail) {
 
   // plugged in again: the goto runs; the stick lost on the way brakes it
   rig.sim.set_joystick_unplugged(false);
-  rig.run_to(t_running + 2.0);
+  rig.run_to(t_running + 3.0);
   rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 8, {1}));
-  const double t_lost = t_running + 3.0;
+  const double t_lost = t_running + 5.5;  // (the move at its pace: J1 ~0.1 rad/s)
   rig.run_to(t_lost);
   ASSERT_EQ(rig.telemetry.replies().back().status, (uint8_t)protocol::ReplyStatus::ok);
   const double q1_at_loss_deg = rig.sim.q()[0] * 180 / M_PI;

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "firmware_rig.h"
@@ -25,20 +26,41 @@ using namespace wmra;
 using armsim::TrajectoryRow;
 
 const std::string kFirmware = std::string(FIRMWARE_DIR) + "/wmra_firmware.elf";
-// near the homing switches: start-up (`home` at test::kHomeAt_s, homing, the ready pose) ends in
-// running at about 5.2 s
+// near the homing switches: start-up (`home` at test::kHomeAt_s, homing, the move to the ready
+// pose at most at the stick's speed) ends in running at about 7.5 s
 const std::string kInit = "init 1.45 0.3 -1.0 0.6 -1.45 0.05\n";
+// The scenarios below are written in times from kLater_s on: run() shifts their events, at()
+// its queries, by it (the start-up takes that much longer than the times were first set for)
+constexpr double kLater_s = 2.5;
 constexpr double kStickAt_s = 6.0;  // every scenario's first stick input, in running
 constexpr double kHandSpeed_m_s = 0.15, kWristSpeed_rad_s = 0.8;
 
 struct ScenarioRun {
   armsim::RunResult result;
   armsim::FirmwareTelemetry telemetry;
-  const TrajectoryRow& at(double t_s) const {  // the row at t (rows every 10 ms from 0)
-    const size_t i = (size_t)std::lround(t_s * 100);
+  const TrajectoryRow& at(double t_s) const {  // the row at t + kLater_s (rows every 10 ms from 0)
+    const size_t i = (size_t)std::lround((t_s + kLater_s) * 100);
     return result.trajectory.at(i < result.trajectory.size() ? i : result.trajectory.size() - 1);
   }
 };
+
+// every event line's time kLater_s later
+std::string later(const std::string& events) {
+  std::string out;
+  size_t at = 0;
+  while (at < events.size()) {
+    const size_t end = events.find('\n', at);
+    const std::string line = events.substr(at, end == std::string::npos ? std::string::npos : end - at);
+    at = end == std::string::npos ? events.size() : end + 1;
+    if (line.empty()) continue;
+    char* rest = nullptr;
+    const double t = std::strtod(line.c_str(), &rest);
+    char time[32];
+    std::snprintf(time, sizeof time, "%.4f", t + kLater_s);
+    out += time + std::string(rest) + "\n";
+  }
+  return out;
+}
 
 // init: the first scenario line (the true joint angles at power-up); eeprom: what the firmware
 // finds there (empty: blank, so the ready pose is joints_config.h's)
@@ -49,7 +71,7 @@ void run(const std::string& events, ScenarioRun& r, const std::string& init = kI
   options.plant.seed = noise_seed;
   options.telemetry = &r.telemetry;
   options.eeprom = eeprom;
-  r.result = armsim::run_scenario(armsim::parse_scenario(init + test::home_event() + events), options);
+  r.result = armsim::run_scenario(armsim::parse_scenario(init + test::home_event() + later(events)), options);
   ASSERT_TRUE(r.result.completed);
   ASSERT_EQ(r.at(stick_at_s).state, (int)core::ArmState::running) << "not running when the stick moves";
   for (int k = 0; k < 3; ++k) EXPECT_EQ(r.result.measurements.steps[k].lost, 0) << "stepper " << k;
@@ -247,7 +269,7 @@ TEST(FirmwareMotion, R2AtTheReadyPoseIsSlowedWithinTheJointLimits) {
   EXPECT_EQ(r.at(7.5).mode, 3) << "R2";
   int slowed = 0, frames = 0;
   for (const protocol::StateMsg& m : r.telemetry.states()) {
-    if (m.t_ms < 7400 || m.t_ms > 8700) continue;
+    if (m.t_ms < (7.4 + kLater_s) * 1000 || m.t_ms > (8.7 + kLater_s) * 1000) continue;
     ++frames;
     if (m.slowed_by & (core::kSlowDriveLoad | core::kSlowJointSpeed | core::kSlowTracking)) ++slowed;
   }

@@ -1,6 +1,7 @@
 // S11 (SPEC 6, 9): every stop holds the arm where it stopped. Each stop kind (the safety button,
 // the `stop` command, a pot fault) during each kind of motion (the stick in XY, XZ, R1, R2; a
-// streamed velocity): the bridges brake, the steppers' trains end or slow down to an end with
+// streamed velocity; the move to the ready pose and to a stored pose): the bridges brake, the
+// steppers' trains end or slow down to an end with
 // their drivers enabled, the hand (judged on the plant's true joint angles, the host's double
 // FK) stays within 10 mm of where it was when the stop came, nothing moves while stopped, and
 // no step is lost. Each case prints its hand travel and the standstill drift.
@@ -132,5 +133,69 @@ INSTANTIATE_TEST_SUITE_P(Coasting, S11,
                          ::testing::Values(StopCase{"xz_minus_z_button", 1, 0, -1, DriveBy::stick, StopBy::button, false},
                                            StopCase{"r2_y_button", 3, 0, 1, DriveBy::stick, StopBy::button, false}),
                          [](const ::testing::TestParamInfo<StopCase>& info) { return std::string(info.param.name); });
+
+}  // namespace
+
+namespace {
+
+// the hand's travel from now until `for_s` on (the safety button pressed now), and the drift
+// over its last second
+struct Travel {
+  double travel_mm = 0, drift_mm = 0;
+};
+Travel press_and_watch(Rig& rig, double for_s) {
+  const armsim::TrajectoryRow at_stop = rig.pose();
+  const double t_stop = rig.sim.time_s();
+  rig.sim.set_estop(true);
+  Travel r;
+  armsim::TrajectoryRow settled{};
+  for (double t = t_stop; t < t_stop + for_s; t += 0.002) {
+    rig.run_to(t);
+    r.travel_mm = std::max(r.travel_mm, distance_mm(rig.pose().p, at_stop.p));
+    if (t >= t_stop + for_s - 1.0) {
+      if (settled.t_s == 0) settled = rig.pose();
+      r.drift_mm = std::max(r.drift_mm, distance_mm(rig.pose().p, settled.p));
+    }
+  }
+  return r;
+}
+
+// S11 during the moves to a pose: the move to the ready pose 1.5 s in, a goto 1.5 s in
+TEST(S11Moves, TheButtonDuringTheMoveToTheReadyPose) {
+  Rig rig(kFirmware);
+  ASSERT_GT(rig.ask_home(8.0), 0);
+  const double t_move = rig.run_until_state(core::ArmState::to_ready, 10.0);
+  ASSERT_GT(t_move, 0);
+  rig.run_to(t_move + 1.5);
+  ASSERT_EQ(rig.state(), core::ArmState::to_ready) << "the move is under way";
+  const Travel r = press_and_watch(rig, 2.5);
+  std::printf("S11 the move to the ready pose: travel %.2f mm, drift over the last second %.3f mm\n", r.travel_mm, r.drift_mm);
+  EXPECT_EQ(rig.state(), core::ArmState::stopped);
+  EXPECT_LE(r.travel_mm, 10.0);
+  EXPECT_LE(r.drift_mm, 1.0);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(rig.sim.measurements().steps[k].lost, 0) << "stepper " << k;
+}
+
+TEST(S11Moves, TheButtonDuringAMoveToAStoredPose) {
+  Rig rig(kFirmware);
+  const double t_running = rig.start(14.0);
+  ASSERT_GT(t_running, 0);
+  uint8_t seq = 1;
+  rig.sim.send_serial(command(protocol::MsgType::cmd_store_pose, seq++, {1}));
+  rig.sim.set_joystick(1.0, 0.0);
+  rig.run_to(t_running + 1.5);
+  rig.sim.set_joystick(0.0, 1.0);
+  rig.run_to(t_running + 2.5);
+  rig.sim.set_joystick(0.0, 0.0);
+  rig.run_to(t_running + 3.5);
+  rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, seq++, {1}));
+  rig.run_to(t_running + 5.0);
+  const Travel r = press_and_watch(rig, 2.5);
+  std::printf("S11 a move to a stored pose: travel %.2f mm, drift over the last second %.3f mm\n", r.travel_mm, r.drift_mm);
+  EXPECT_EQ(rig.state(), core::ArmState::stopped);
+  EXPECT_LE(r.travel_mm, 10.0);
+  EXPECT_LE(r.drift_mm, 1.0);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(rig.sim.measurements().steps[k].lost, 0) << "stepper " << k;
+}
 
 }  // namespace
