@@ -271,6 +271,9 @@ bool g_homed;
 bool g_at_target;
 bool g_moving;     // a joint move in running (to a stored pose), or the person taking one over
 bool g_line_done;  // the move's references are on its target: the joints settle onto it
+bool g_streaming;      // the last iteration's motion followed a streamed velocity
+bool g_stream_halted;  // the stream stopped arriving: the joints halted, the stick waits for rest
+uint8_t g_stream_halt_ms;
 core::JointMove g_move;
 kin::Vec3<fx::Real> g_move_p;  // the hand at the move's last measurement (hand_per_lead)
 int32_t g_move_lead_at;        // and the lead joint's reference then
@@ -636,6 +639,21 @@ WMRA_COLD void move_tick(uint8_t phase) {
   g_at_target = arrived;
 }
 
+// A stream that stops arriving (no frame for protocol::kVelocityTimeout_ms) halts the joints as
+// a stop does, without latching: the bridges brake, the step trains end (or, above a start/stop
+// rate, ramp down), and the stick drives again once the trains are at rest and the DC joints
+// have had kStreamHalt_ms to come to rest. Ramping the references down along the stick's ramps
+// instead let the hand run on 28-34 mm past the last frame (SPEC 6: at rest within 0.3 s of
+// it, at most 25 mm from 0.15 m/s; 100 ms of that at full speed before the timeout).
+constexpr uint8_t kStreamHalt_ms = 60;
+WMRA_COLD void halt_lost_stream() {
+  bridges::all_off();
+  steppers::halt_trains();
+  for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
+  g_stream_halted = true;
+  g_stream_halt_ms = 0;
+}
+
 // Every joint's reference where the joint is: a DC joint that arrived within
 // kArrivedTolerance_mdeg of a move's target would otherwise go on to it with the stick neutral
 // (J3 ended the move to the ready pose 13 mrad short and crept there over 3 s).
@@ -647,6 +665,7 @@ WMRA_COLD void start_running() {
   g_v_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
   for (uint8_t j = 0; j < 6; ++j) g_qd[j] = fx::Real{0};
   g_moving = false;
+  g_stream_halted = g_streaming = false;
 }
 
 WMRA_COLD void enter(core::ArmState state) {
@@ -1097,7 +1116,10 @@ void iterate(Requests& rq, uint8_t ticks) {
       if (!stick_valid || !stick_neutral) {
         rq.stream_taken_over = rq.velocity_fresh;
         rq.velocity_fresh = false;
+      } else if (g_streaming && !rq.velocity_fresh) {
+        halt_lost_stream();
       }
+      g_streaming = rq.velocity_fresh;
       int8_t pose_slot = rq.goto_slot;
       if (long_press && kLongPressWhileRunning == LongPress::go_to_stored_pose_0) pose_slot = 0;
       if (pose_slot >= 0 && stick_valid && (g_settings->pose_valid & (1 << pose_slot))) {
@@ -1110,6 +1132,9 @@ void iterate(Requests& rq, uint8_t ticks) {
       if (g_moving) {
         move_tick(phase);
         if (g_at_target || (g_move.braking() && g_move.lead_speed().raw == 0)) start_running();
+      } else if (g_stream_halted) {
+        g_stream_halt_ms = control::add_saturated_u8(g_stream_halt_ms, ticks);
+        if (g_stream_halt_ms >= kStreamHalt_ms && steppers::at_rest()) start_running();
       } else {
         if (slot == kMotionSlot) {
           motion_tick(stick, rq, g_motion_elapsed);
@@ -1139,7 +1164,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   // ramps' state a tick after a command). Nothing else reads the counts while the stick drives;
   // the readers outside it (the report, the drives off, a move or a brake begun) count first.
   g_ramp_elapsed = control::add_saturated_u8(g_ramp_elapsed, ticks);
-  if (stepper_slot || state != core::ArmState::running || g_moving) {
+  if (stepper_slot || state != core::ArmState::running || g_moving || g_stream_halted) {
     steppers::service(g_ramp_elapsed);
     g_ramp_elapsed = 0;
   } else if ((g_phase + 1) % kStepperPeriod_ticks == kStepperSlot) {  // (the global: phase kept live to here cost ~70 cycles)
