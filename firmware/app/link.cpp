@@ -9,6 +9,7 @@
 #include "drivers/uart.h"
 #include "protocol/frame.h"
 #include "protocol/messages.h"
+#include "protocol/parser.h"
 
 namespace wmra {
 namespace app {
@@ -26,6 +27,8 @@ uint16_t g_rejected;
 uint32_t g_next_state_ms;  // the next state frame is due at this tick::now_ms()
 uint16_t g_velocity_age_ms = 0xFFFF;
 bool g_stream_taken_over;  // by the stick: velocity commands refused until none came for the timeout
+uint8_t g_arrived;  // uart::arrived() at the last poll
+uint8_t g_quiet_ms;  // whole ticks since the line last brought a byte (saturating)
 uint16_t g_loop_cycles_max;
 bool g_send_calibration;  // a calibration frame follows the command's reply (on a later tick if the buffer is full)
 
@@ -214,10 +217,23 @@ __attribute__((noinline)) void send_calibration() {
     --g_seq;
 }
 
+// At most kMaxRxStepsPerTick of the parser's steps a tick, each a byte from the receive ring
+// (kMaxRxBytesPerTick of them at most) or one held again after a failed frame: a rescan leaves
+// the line's bytes waiting in the ring, it does not lengthen the tick. With every byte read and
+// looked at, the line's silence drops a partial frame (kByteGap_ms).
 __attribute__((noinline)) void receive(Requests& rq) {
-  uint8_t byte;
-  for (uint8_t n = 0; n < config::kMaxRxBytesPerTick && uart::read(byte); ++n) {
-    if (g_parser.feed(byte)) reply(g_parser.frame(), handle(g_parser.frame(), rq));
+  if (!uart::received()) g_parser.line_quiet(g_quiet_ms);
+  uint8_t bytes = config::kMaxRxBytesPerTick, byte;
+  for (uint8_t n = config::kMaxRxStepsPerTick; n > 0; --n) {
+    bool complete;
+    if (g_parser.caught_up()) {
+      if (bytes == 0 || !uart::read(byte)) return;
+      --bytes;
+      complete = g_parser.feed(byte);
+    } else {
+      complete = g_parser.step();
+    }
+    if (complete) reply(g_parser.frame(), handle(g_parser.frame(), rq));
   }
 }
 
@@ -234,7 +250,11 @@ void start(uint8_t reset_cause, uint8_t calibration) {
 // a frame that comes every few ticks at most.
 void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   if (loop_cycles > g_loop_cycles_max) g_loop_cycles_max = loop_cycles;
-  if (uart::received()) receive(rq);
+  // the line's silence: a byte came in (poll before, poll now], or none for these ticks
+  const uint8_t arrived = uart::arrived();
+  g_quiet_ms = arrived != g_arrived ? 0 : (uint8_t)(g_quiet_ms + ticks < 0xFF ? g_quiet_ms + ticks : 0xFF);
+  g_arrived = arrived;
+  if (uart::received() || g_parser.holding()) receive(rq);
   if (g_send_calibration) send_calibration();
   if (g_velocity_age_ms < 0xFF00) g_velocity_age_ms = (uint16_t)(g_velocity_age_ms + ticks);
   const bool arriving = g_velocity_age_ms < protocol::kVelocityTimeout_ms;

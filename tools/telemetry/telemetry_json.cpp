@@ -181,8 +181,8 @@ const char* type_name(uint8_t type) {
   return nullptr;
 }
 
-bool FrameStream::feed(uint8_t byte) {
-  if (!parser_.feed(byte)) return false;
+bool FrameStream::next() {
+  if (!parser_.next()) return false;
   ++frames_;
   const Frame& f = parser_.frame();
   if (!is_command(f.type)) {
