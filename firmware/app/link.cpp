@@ -25,8 +25,11 @@ uint8_t g_seq;
 uint8_t g_reset_cause;
 uint16_t g_rejected;
 uint32_t g_next_state_ms;  // the next state frame is due at this tick::now_ms()
-uint16_t g_velocity_age_ms = 0xFFFF;
-bool g_stream_taken_over;  // by the stick: velocity commands refused until none came for the timeout
+uint16_t g_velocity_age_ms = 0xFFFF;  // since the last velocity command, accepted or refused
+// The stream is over: its velocity commands are refused until none has come for the timeout,
+// so that the host must pause and begin a new one (SPEC 6). Any stop ends it (the state leaves
+// running), and so does the stick: at a rail, deflected, or taking it over.
+bool g_stream_ended;
 uint8_t g_arrived;  // uart::arrived() at the last poll
 uint8_t g_quiet_ms;  // whole ticks since the line last brought a byte (saturating)
 uint16_t g_loop_cycles_max;
@@ -147,11 +150,14 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
     case MsgType::cmd_store_pose:
       return store_pose(f.payload[0]) ? ReplyStatus::ok : ReplyStatus::refused;
     case MsgType::cmd_velocity: {
-      if (!motion_allowed(status())) return ReplyStatus::refused;
+      // every command keeps its stream arriving, a refused one too: a stream ended stays ended
+      // while its commands come (with the stick deflected it would be taken over at once)
+      g_velocity_age_ms = 0;
+      const Status& st = status();
+      if (!motion_allowed(st) || st.stick_q15[0] != 0 || st.stick_q15[1] != 0) g_stream_ended = true;
+      if (g_stream_ended) return ReplyStatus::refused;
       protocol::VelocityCmd v;
-      if (!protocol::decode(f, v)) return ReplyStatus::bad_length;
-      g_velocity_age_ms = 0;  // (a stream taken over is still arriving: it stays refused)
-      if (g_stream_taken_over) return ReplyStatus::refused;
+      protocol::decode(f, v);  // (check_command has checked its length)
       core::limit_length(v.v_mm_s, kMaxHand_mm_s);
       core::limit_length(v.w_mrad_s, kMaxWrist_mrad_s);
       for (uint8_t i = 0; i < 3; ++i) {
@@ -182,6 +188,7 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
 
 __attribute__((noinline)) void send_state() {
   const Status& s = status();
+  if (!motion_allowed(s)) g_stream_ended = true;  // a stop between two commands of the stream
   protocol::StateMsg& m = g_frame.state.msg;  // every field is set below
   m.t_ms = tick::now_ms();
   m.state = (uint8_t)s.state;
@@ -258,9 +265,9 @@ void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   if (g_send_calibration) send_calibration();
   if (g_velocity_age_ms < 0xFF00) g_velocity_age_ms = (uint16_t)(g_velocity_age_ms + ticks);
   const bool arriving = g_velocity_age_ms < protocol::kVelocityTimeout_ms;
-  g_stream_taken_over = (g_stream_taken_over | rq.stream_taken_over) & arriving;
+  g_stream_ended = (g_stream_ended | rq.stream_taken_over) & arriving;
   rq.stream_taken_over = false;
-  rq.velocity_fresh = arriving & !g_stream_taken_over;
+  rq.velocity_fresh = arriving & !g_stream_ended;
   // one frame per period, after the first iteration at or past its start (every 20 ms from
   // boot, so the frames keep their phase whatever the iterations' lengths): the state of the
   // iteration just run, one tick's; a period missed whole is skipped, not sent twice

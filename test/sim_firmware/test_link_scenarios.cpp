@@ -1,7 +1,8 @@
 // S14 (SPEC 9) and SPEC 6's serial rows: the firmware ELF against the virtual arm. Half a frame
 // from a host that died cannot wedge the link: a stop after it is obeyed within 10 ms of its
-// last byte. Motion is judged on the plant's true joint angles; what the firmware said and
-// when, from its bytes on the line.
+// last byte. A stream never drives again after a stop: its commands are refused after the
+// re-arm until it pauses for the timeout. Motion is judged on the plant's true joint angles;
+// what the firmware said and when, from its bytes on the line.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -247,5 +248,121 @@ TEST(S14Link, HalfAFrameThenAStopWhileHoming) {
   EXPECT_EQ(rig.state(), core::ArmState::stopped);
   EXPECT_LE(watch.travel_mm, 1.0) << "nothing moves while stopped";
 }
+
+// The ways a stream may be stopped (SPEC 6: any stop ends it)
+enum class StopBy { safety_button, stop_command, pot_fault, stick_unplugged };
+const char* name(StopBy s) {
+  switch (s) {
+    case StopBy::safety_button: return "safety button";
+    case StopBy::stop_command: return "stop command";
+    case StopBy::pot_fault: return "J3 pot open";
+    case StopBy::stick_unplugged: return "stick unplugged";
+  }
+  return "?";
+}
+
+struct StreamAfterStop {
+  double streamed_mm = -1;     // the hand under the stream before the stop
+  double back_running_s = -1;  // from the stop to running again (-1: never)
+  double window_mm = -1;       // the hand's largest travel in the 2 s of running after that
+  std::array<double, 3> window_end_p{};  // and where it was at their end
+  size_t refused = 0;          // the velocity commands refused in them
+  double new_stream_mm = -1;   // a new stream, after a pause of more than the timeout, in 1 s
+};
+
+// A host streams the hand up at 60 mm/s, a command every 40 ms, until a stop; then (old_stream)
+// on through the stop, its clearing and the re-arm (the stick unplugged: plugged in again, the
+// arm running all along), and 2 s more, or it falls silent; then after a pause of 150 ms a new
+// stream for 1 s.
+StreamAfterStop stream_through(StopBy by, bool old_stream) {
+  StreamAfterStop r;
+  Rig rig(kFirmware);
+  LineWatch watch(rig);
+  const double t_running = rig.start(12.0);
+  if (t_running < 0) return r;
+  protocol::VelocityCmd v{};
+  v.v_mm_s[2] = 60;
+  uint8_t seq = 0;
+  double next_s = t_running + 0.2;
+  bool streaming = true;
+  const auto stream_until = [&](double t_s) {
+    for (; next_s < t_s; next_s += 0.04) {
+      rig.run_to(next_s);
+      if (streaming) rig.sim.send_serial(message(v, seq++));
+    }
+    rig.run_to(t_s);
+  };
+  const armsim::TrajectoryRow start = rig.pose();
+  stream_until(t_running + 0.8);
+  r.streamed_mm = distance_mm(rig.pose().p, start.p);
+  const double t_stop = rig.sim.time_s();
+  streaming = old_stream;
+  switch (by) {
+    case StopBy::safety_button: rig.sim.set_estop(true); break;
+    case StopBy::stop_command: rig.sim.send_serial(command(MsgType::cmd_stop, 250)); break;
+    case StopBy::pot_fault: rig.sim.set_pot_fault(2, plant::PotFault::open); break;
+    case StopBy::stick_unplugged: rig.sim.set_joystick_unplugged(true); break;
+  }
+  stream_until(t_stop + 0.3);
+  rig.sim.set_estop(false);
+  rig.sim.set_pot_fault(2, plant::PotFault::ok);
+  rig.sim.set_joystick_unplugged(false);
+  stream_until(t_stop + 0.5);
+  if (by != StopBy::stick_unplugged) rig.sim.send_serial(command(MsgType::cmd_rearm, 251));
+  // running again (homing the steppers again, if the stop needs it, takes a few seconds)
+  for (double t = t_stop + 0.6; t < t_stop + 20 && r.back_running_s < 0; t += 0.1) {
+    stream_until(t);
+    if (rig.state() == core::ArmState::running) r.back_running_s = t - t_stop;
+  }
+  if (r.back_running_s < 0) return r;
+  const size_t replies_from = rig.telemetry.replies().size();
+  watch.mark(rig);
+  stream_until(rig.sim.time_s() + 2.0);
+  r.window_mm = watch.travel_mm;
+  r.window_end_p = rig.pose().p;
+  for (size_t i = replies_from; i < rig.telemetry.replies().size(); ++i) {
+    const protocol::ReplyMsg& reply = rig.telemetry.replies()[i];
+    r.refused += reply.command_type == (uint8_t)MsgType::cmd_velocity && reply.status == (uint8_t)protocol::ReplyStatus::refused;
+  }
+  streaming = true;
+  next_s = rig.sim.time_s() + 0.15;  // the host pauses, then begins a new stream
+  const armsim::TrajectoryRow paused = rig.pose();
+  stream_until(next_s + 1.0);
+  r.new_stream_mm = distance_mm(rig.pose().p, paused.p);
+  return r;
+}
+
+// S14: a stream does not restart after a stop (issue 30, finding 5: the safety button, its
+// release and a re-arm, and the old stream drove the hand 103 mm in 2 s; the same after a pot
+// fault and the stick unplugged mid-stream). Judged against the same run with the host silent
+// from the stop on: the arm does what it does without any stream (after a stop the steppers
+// settle a few mrad once their drivers are on again, stream or not).
+class S14Stream : public ::testing::TestWithParam<StopBy> {};
+
+TEST_P(S14Stream, DoesNotRestartAfterAStop) {
+  const StopBy by = GetParam();
+  const StreamAfterStop r = stream_through(by, true), silent = stream_through(by, false);
+  const double apart_mm = distance_mm(r.window_end_p, silent.window_end_p);
+  std::printf("%s: streamed %.1f mm; running again %.2f s after the stop; the old stream on for 2 s: %zu commands "
+              "refused, the hand %.2f mm from where it is with the host silent (it moved %.2f mm, %.2f mm silent); a new "
+              "stream after a pause: %.1f mm in 1 s\n",
+              name(by), r.streamed_mm, r.back_running_s, r.refused, apart_mm, r.window_mm, silent.window_mm,
+              r.new_stream_mm);
+  EXPECT_GT(r.streamed_mm, 15.0) << "the stream drove before the stop";
+  ASSERT_GT(r.back_running_s, 0) << "running again";
+  ASSERT_GT(silent.back_running_s, 0);
+  EXPECT_LT(apart_mm, 1.0) << "the old stream drove the arm again";
+  EXPECT_GE(r.refused, 45u) << "its commands refused (50 in 2 s)";
+  EXPECT_GT(r.new_stream_mm, 30.0) << "a new stream after a pause drives";
+}
+
+INSTANTIATE_TEST_CASE_P(EveryStop, S14Stream,
+                        ::testing::Values(StopBy::safety_button, StopBy::stop_command, StopBy::pot_fault,
+                                          StopBy::stick_unplugged),
+                        [](const ::testing::TestParamInfo<StopBy>& i) {
+                          std::string n = name(i.param);
+                          for (char& ch : n) ch = ch == ' ' ? '_' : ch;
+                          return n;
+                        });
 
 }  // namespace
