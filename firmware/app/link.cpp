@@ -5,6 +5,7 @@
 #include "core/faults.h"
 #include "core/joint_map.h"
 #include "core/stream_limit.h"
+#include "drivers/inputs.h"
 #include "drivers/system_tick.h"
 #include "drivers/uart.h"
 #include "protocol/frame.h"
@@ -128,6 +129,7 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
     case MsgType::cmd_rearm: {
       const core::ArmState state = status().state;
       if (state != core::ArmState::stopped && state != core::ArmState::fault) return ReplyStatus::refused;
+      if (inputs::safety_pressed()) return ReplyStatus::safety_held;  // the supervisor would stay stopped
       rq.rearm = true;
       return ReplyStatus::ok;
     }

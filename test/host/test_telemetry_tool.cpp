@@ -135,6 +135,16 @@ TEST(TelemetryJson, ReplyBootAndCommands) {
             "{\"type\":\"command\",\"command\":\"velocity\",\"seq\":6,\"v_mm_s\":[150,0,-1],\"w_mrad_s\":[0,800,0]}");
 }
 
+// every status the firmware replies with has its name; a newer one reads unknown_N
+TEST(TelemetryJson, EveryReplyStatusHasItsName) {
+  const char* const names[] = {"ok", "unknown_command", "bad_length", "bad_argument", "refused", "safety_held"};
+  for (uint8_t status = 0; status < 6; ++status) EXPECT_EQ(telemetry::status_name(status), names[status]);
+  EXPECT_EQ(telemetry::status_name((uint8_t)ReplyStatus::safety_held), "safety_held");
+  EXPECT_EQ(telemetry::status_name(6), "unknown_6");
+  EXPECT_EQ(to_json(parse_one(message_bytes(ReplyMsg{(uint8_t)MsgType::cmd_rearm, 9, (uint8_t)ReplyStatus::safety_held}, 42))),
+            "{\"type\":\"reply\",\"seq\":42,\"command\":\"rearm\",\"command_seq\":9,\"status\":\"safety_held\"}");
+}
+
 TEST(TelemetryJson, FramesThatDoNotFitTheirType) {
   EXPECT_EQ(to_json(parse_one(frame_bytes(0x13, 1, {101}))),
             "{\"type\":\"command\",\"command\":\"speed_scale\",\"seq\":1,\"error\":\"bad_argument\",\"payload\":\"65\"}");

@@ -1,8 +1,9 @@
 // S14 (SPEC 9) and SPEC 6's serial rows: the firmware ELF against the virtual arm. Half a frame
 // from a host that died cannot wedge the link: a stop after it is obeyed within 10 ms of its
 // last byte. A stream never drives again after a stop: its commands are refused after the
-// re-arm until it pauses for the timeout. Motion is judged on the plant's true joint angles;
-// what the firmware said and when, from its bytes on the line.
+// re-arm until it pauses for the timeout. A re-arm while the safety button is held is refused
+// with its reason. Motion is judged on the plant's true joint angles; what the firmware said and
+// when, from its bytes on the line.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -364,5 +365,53 @@ INSTANTIATE_TEST_CASE_P(EveryStop, S14Stream,
                           for (char& ch : n) ch = ch == ' ' ? '_' : ch;
                           return n;
                         });
+
+// SPEC 6: a re-arm while the safety button is held is refused, and the reply says why
+// (safety_held): it changes nothing, the joints as in the same run without it. Released, the
+// same command re-arms. (It answered ok and did nothing.)
+struct HeldRearm {
+  uint8_t status = 0xFF;  // the reply to the re-arm sent while held (0xFF: none)
+  core::ArmState state_held = core::ArmState::boot;
+  plant::Joints q_held{};  // the true joints 1 s after the press
+  uint8_t status_released = 0xFF;  // the reply to the re-arm after the release
+  double running_again_s = -1;
+};
+HeldRearm rearm_while_held(bool send_it) {
+  HeldRearm h;
+  Rig rig(kFirmware);
+  const double t_running = rig.start(12.0);
+  if (t_running < 0) return h;
+  rig.sim.set_estop(true);
+  rig.run_to(t_running + 0.2);
+  if (send_it) rig.sim.send_serial(command(MsgType::cmd_rearm, 7));
+  rig.run_to(t_running + 1.0);
+  if (!rig.telemetry.replies().empty() && rig.telemetry.replies().back().command_seq == 7)
+    h.status = rig.telemetry.replies().back().status;
+  h.state_held = rig.state();
+  h.q_held = rig.sim.q();
+  rig.sim.set_estop(false);
+  rig.run_to(t_running + 1.2);
+  rig.sim.send_serial(command(MsgType::cmd_rearm, 8));
+  rig.run_to(t_running + 1.3);
+  if (!rig.telemetry.replies().empty() && rig.telemetry.replies().back().command_seq == 8)
+    h.status_released = rig.telemetry.replies().back().status;
+  const double t = rig.run_until_state(core::ArmState::running, t_running + 20.0);
+  h.running_again_s = t < 0 ? -1 : t - t_running;
+  return h;
+}
+
+TEST(S14Link, RearmWhileTheSafetyButtonIsHeldIsRefused) {
+  const HeldRearm sent = rearm_while_held(true), not_sent = rearm_while_held(false);
+  double apart_rad = 0;
+  for (int j = 0; j < 6; ++j) apart_rad = std::max(apart_rad, std::fabs(sent.q_held[j] - not_sent.q_held[j]));
+  std::printf("re-arm while held: status %d, state %s, joints %.3f mrad from the run without it; released: status %d, "
+              "running again %.2f s after the press\n",
+              sent.status, core::to_string(sent.state_held), apart_rad * 1000, sent.status_released, sent.running_again_s);
+  EXPECT_EQ(sent.status, (uint8_t)protocol::ReplyStatus::safety_held);
+  EXPECT_EQ(sent.state_held, core::ArmState::stopped);
+  EXPECT_LT(apart_rad, 1e-4) << "the refused re-arm moved something";
+  EXPECT_EQ(sent.status_released, (uint8_t)protocol::ReplyStatus::ok);
+  EXPECT_GT(sent.running_again_s, 0) << "re-armed once released";
+}
 
 }  // namespace
