@@ -429,6 +429,90 @@ TEST(Parser, CandidatesFromBeforeAGapEndAtIt) {
   EXPECT_EQ(frames[0].type, (uint8_t)MsgType::cmd_stop);
 }
 
+// A fuzzed line: valid frames, frames cut short, runs of bytes made of what frames are made of
+// (syncs, the version, short lengths), random bytes, and gaps of 1 to 5 ms between them, fed as
+// the firmware feeds them (feed, then steps until caught up). Every frame the parser gives is in
+// the line as it came, byte for byte, with a correct CRC (the ring's wrap and the rescans
+// assemble nothing else), and every valid frame with a gap of kByteGap_ms before and after it
+// is found.
+TEST(Parser, FuzzedLineWithGaps) {
+  std::mt19937 rng(3030u);
+  const auto pick = [&](uint32_t n) { return (uint32_t)(rng() % n); };
+  std::vector<uint8_t> line;
+  std::vector<uint8_t> quiet_after;  // the line's silence after each byte, ms
+  std::vector<std::vector<uint8_t>> isolated;  // the valid frames with a gap on either side
+  uint32_t serial = 0;
+  const auto add = [&](const std::vector<uint8_t>& bytes) {
+    for (uint8_t b : bytes) {
+      line.push_back(b);
+      quiet_after.push_back(0);
+    }
+  };
+  const auto gap = [&] {
+    if (!quiet_after.empty() && pick(4) != 0) quiet_after.back() = (uint8_t)(1 + pick(5));
+  };
+  while (line.size() < 400000) {
+    const uint32_t kind = pick(10);
+    std::vector<uint8_t> payload(pick(kMaxPayload + 1));
+    for (uint8_t& b : payload) b = (uint8_t)rng();
+    if (payload.size() >= 4)
+      for (int i = 0; i < 4; ++i) payload[i] = (uint8_t)(serial >> (8 * i));  // each frame its own
+    ++serial;
+    const std::vector<uint8_t> frame = frame_bytes((uint8_t)rng(), (uint8_t)rng(), payload);
+    if (kind < 3) {  // a valid frame, gaps of 1 to 5 ms before and after it or not
+      gap();
+      const bool gap_before = !quiet_after.empty() && quiet_after.back() >= kByteGap_ms;
+      add(frame);
+      gap();
+      if (gap_before && quiet_after.back() >= kByteGap_ms) isolated.push_back(frame);
+    } else if (kind < 5) {  // a frame cut short
+      add(std::vector<uint8_t>(frame.begin(), frame.begin() + 1 + pick((uint32_t)frame.size() - 1)));
+    } else if (kind < 8) {  // what frames are made of
+      const uint8_t parts[] = {kSync, kVersion, (uint8_t)pick(8), (uint8_t)pick(kMaxPayload + 2), (uint8_t)rng()};
+      std::vector<uint8_t> run(1 + pick(40));
+      for (uint8_t& b : run) b = parts[pick(5)];
+      add(run);
+    } else if (kind < 9) {
+      std::vector<uint8_t> run(1 + pick(40));
+      for (uint8_t& b : run) b = (uint8_t)rng();
+      add(run);
+    } else {
+      gap();
+    }
+  }
+
+  Parser p;
+  std::vector<std::vector<uint8_t>> found;
+  size_t max_steps = 0;
+  for (size_t i = 0; i < line.size(); ++i) {
+    size_t steps = 1;
+    std::vector<Frame> frames;
+    if (p.feed(line[i])) frames.push_back(p.frame());
+    for (; !p.caught_up(); ++steps)
+      if (p.step()) frames.push_back(p.frame());
+    if (quiet_after[i]) {
+      p.line_quiet(quiet_after[i]);
+      for (; !p.caught_up(); ++steps)
+        if (p.step()) frames.push_back(p.frame());
+    }
+    max_steps = std::max(max_steps, steps);
+    for (const Frame& f : frames) {
+      const std::vector<uint8_t> whole = frame_bytes(f.type, f.seq, std::vector<uint8_t>(f.payload, f.payload + f.len));
+      const auto from = line.begin() + (long)(i + 1 > 2 * kMaxFrameBytes ? i + 1 - 2 * kMaxFrameBytes : 0);
+      const auto at = std::search(from, line.begin() + (long)i + 1, whole.begin(), whole.end());
+      ASSERT_NE(at, line.begin() + (long)i + 1) << "a frame not in the line, at byte " << i;
+      ASSERT_EQ(le16(&*at + whole.size() - 2), crc_bitwise(&*at + 1, whole.size() - 3));
+      found.push_back(whole);
+    }
+  }
+  size_t missed = 0;
+  for (const auto& frame : isolated) missed += std::find(found.begin(), found.end(), frame) == found.end();
+  std::printf("%zu bytes, %zu frames found, %zu of them with a gap either side, %zu missed; at most %zu steps after a byte\n",
+              line.size(), found.size(), isolated.size(), missed, max_steps);
+  EXPECT_GT(isolated.size(), 1000u);
+  EXPECT_EQ(missed, 0u);
+}
+
 TEST(Parser, OneMegabyteOfRandomBytes) {
   std::mt19937 rng(20240501u);
   std::vector<uint8_t> bytes(1u << 20);
