@@ -5,10 +5,12 @@
 #include "core/faults.h"
 #include "core/joint_map.h"
 #include "core/stream_limit.h"
+#include "drivers/inputs.h"
 #include "drivers/system_tick.h"
 #include "drivers/uart.h"
 #include "protocol/frame.h"
 #include "protocol/messages.h"
+#include "protocol/parser.h"
 
 namespace wmra {
 namespace app {
@@ -24,8 +26,13 @@ uint8_t g_seq;
 uint8_t g_reset_cause;
 uint16_t g_rejected;
 uint32_t g_next_state_ms;  // the next state frame is due at this tick::now_ms()
-uint16_t g_velocity_age_ms = 0xFFFF;
-bool g_stream_taken_over;  // by the stick: velocity commands refused until none came for the timeout
+uint16_t g_velocity_age_ms = 0xFFFF;  // since the last velocity command, accepted or refused
+// The stream is over: its velocity commands are refused until none has come for the timeout,
+// so that the host must pause and begin a new one (SPEC 6). Any stop ends it (the state leaves
+// running), and so does the stick: at a rail, deflected, or taking it over.
+bool g_stream_ended;
+uint8_t g_arrived;  // uart::arrived() at the last poll
+uint8_t g_quiet_ms;  // whole ticks since the line last brought a byte (saturating)
 uint16_t g_loop_cycles_max;
 bool g_send_calibration;  // a calibration frame follows the command's reply (on a later tick if the buffer is full)
 
@@ -92,6 +99,12 @@ constexpr uint8_t kTestHangCommand = 0x7F;
 constexpr uint8_t kTestStallCommand = 0x7E;
 #endif
 
+// a streamed velocity or a move may go on: running, with a stick the person can take it over
+// with (SPEC 6)
+bool motion_allowed(const Status& st) {
+  return st.state == core::ArmState::running && !(st.faults & core::fault_mask(core::kFaultBitStickInvalid));
+}
+
 __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
 #ifdef WMRA_TEST_HOOKS
   if (f.type == kTestHangCommand) {
@@ -107,40 +120,46 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
 #endif
   const ReplyStatus check = protocol::check_command(f);
   if (check != ReplyStatus::ok) return check;
-  const Status& st = status();
-  const core::ArmState state = st.state;
-  // motion commands only with a stick the person can take them over with (SPEC 6)
-  const bool motion_allowed = state == core::ArmState::running && !(st.faults & core::fault_mask(core::kFaultBitStickInvalid));
+  // status() only where the state is read: it puts the whole report together (~2,500 cycles,
+  // the hand's FK), and a flood of commands that do not read it overran ticks with it
   switch ((MsgType)f.type) {
     case MsgType::cmd_stop:
       rq.stop = true;
       return ReplyStatus::ok;
-    case MsgType::cmd_rearm:
+    case MsgType::cmd_rearm: {
+      const core::ArmState state = status().state;
       if (state != core::ArmState::stopped && state != core::ArmState::fault) return ReplyStatus::refused;
+      if (inputs::safety_pressed()) return ReplyStatus::safety_held;  // the supervisor would stay stopped
       rq.rearm = true;
       return ReplyStatus::ok;
+    }
     case MsgType::cmd_mode:
       return select_mode((config::Mode)f.payload[0]) ? ReplyStatus::ok : ReplyStatus::refused;
     case MsgType::cmd_speed_scale:
       set_speed_scale(f.payload[0]);
       return ReplyStatus::ok;
     case MsgType::cmd_home:
-      if (!core::accepts_home(state)) return ReplyStatus::refused;
+      if (!core::accepts_home(status().state)) return ReplyStatus::refused;
       rq.home = true;
       return ReplyStatus::ok;
-    case MsgType::cmd_goto_pose:
+    case MsgType::cmd_goto_pose: {
       // not from a closed limit switch: a move would not keep off it (the stick drives off it)
-      if (!motion_allowed || (st.switches & kSwitchesArmed) || !pose_valid(f.payload[0])) return ReplyStatus::refused;
+      const Status& st = status();
+      if (!motion_allowed(st) || (st.switches & kSwitchesArmed) || !pose_valid(f.payload[0])) return ReplyStatus::refused;
       rq.goto_slot = (int8_t)f.payload[0];
       return ReplyStatus::ok;
+    }
     case MsgType::cmd_store_pose:
       return store_pose(f.payload[0]) ? ReplyStatus::ok : ReplyStatus::refused;
     case MsgType::cmd_velocity: {
-      if (!motion_allowed) return ReplyStatus::refused;
+      // every command keeps its stream arriving, a refused one too: a stream ended stays ended
+      // while its commands come (with the stick deflected it would be taken over at once)
+      g_velocity_age_ms = 0;
+      const Status& st = status();
+      if (!motion_allowed(st) || st.stick_q15[0] != 0 || st.stick_q15[1] != 0) g_stream_ended = true;
+      if (g_stream_ended) return ReplyStatus::refused;
       protocol::VelocityCmd v;
-      if (!protocol::decode(f, v)) return ReplyStatus::bad_length;
-      g_velocity_age_ms = 0;  // (a stream taken over is still arriving: it stays refused)
-      if (g_stream_taken_over) return ReplyStatus::refused;
+      protocol::decode(f, v);  // (check_command has checked its length)
       core::limit_length(v.v_mm_s, kMaxHand_mm_s);
       core::limit_length(v.w_mrad_s, kMaxWrist_mrad_s);
       for (uint8_t i = 0; i < 3; ++i) {
@@ -171,6 +190,7 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
 
 __attribute__((noinline)) void send_state() {
   const Status& s = status();
+  if (!motion_allowed(s)) g_stream_ended = true;  // a stop between two commands of the stream
   protocol::StateMsg& m = g_frame.state.msg;  // every field is set below
   m.t_ms = tick::now_ms();
   m.state = (uint8_t)s.state;
@@ -206,10 +226,23 @@ __attribute__((noinline)) void send_calibration() {
     --g_seq;
 }
 
+// At most kMaxRxStepsPerTick of the parser's steps a tick, each a byte from the receive ring
+// (kMaxRxBytesPerTick of them at most) or one held again after a failed frame: a rescan leaves
+// the line's bytes waiting in the ring, it does not lengthen the tick. With every byte read and
+// looked at, the line's silence drops a partial frame (kByteGap_ms).
 __attribute__((noinline)) void receive(Requests& rq) {
-  uint8_t byte;
-  for (uint8_t n = 0; n < config::kMaxRxBytesPerTick && uart::read(byte); ++n) {
-    if (g_parser.feed(byte)) reply(g_parser.frame(), handle(g_parser.frame(), rq));
+  if (!uart::received()) g_parser.line_quiet(g_quiet_ms);
+  uint8_t bytes = config::kMaxRxBytesPerTick, byte;
+  for (uint8_t n = config::kMaxRxStepsPerTick; n > 0; --n) {
+    bool complete;
+    if (g_parser.caught_up()) {
+      if (bytes == 0 || !uart::read(byte)) return;
+      --bytes;
+      complete = g_parser.feed(byte);
+    } else {
+      complete = g_parser.step();
+    }
+    if (complete) reply(g_parser.frame(), handle(g_parser.frame(), rq));
   }
 }
 
@@ -226,13 +259,17 @@ void start(uint8_t reset_cause, uint8_t calibration) {
 // a frame that comes every few ticks at most.
 void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   if (loop_cycles > g_loop_cycles_max) g_loop_cycles_max = loop_cycles;
-  if (uart::received()) receive(rq);
+  // the line's silence: a byte came in (poll before, poll now], or none for these ticks
+  const uint8_t arrived = uart::arrived();
+  g_quiet_ms = arrived != g_arrived ? 0 : (uint8_t)(g_quiet_ms + ticks < 0xFF ? g_quiet_ms + ticks : 0xFF);
+  g_arrived = arrived;
+  if (uart::received() || g_parser.holding()) receive(rq);
   if (g_send_calibration) send_calibration();
   if (g_velocity_age_ms < 0xFF00) g_velocity_age_ms = (uint16_t)(g_velocity_age_ms + ticks);
   const bool arriving = g_velocity_age_ms < protocol::kVelocityTimeout_ms;
-  g_stream_taken_over = (g_stream_taken_over | rq.stream_taken_over) & arriving;
+  g_stream_ended = (g_stream_ended | rq.stream_taken_over) & arriving;
   rq.stream_taken_over = false;
-  rq.velocity_fresh = arriving & !g_stream_taken_over;
+  rq.velocity_fresh = arriving & !g_stream_ended;
   // one frame per period, after the first iteration at or past its start (every 20 ms from
   // boot, so the frames keep their phase whatever the iterations' lengths): the state of the
   // iteration just run, one tick's; a period missed whole is skipped, not sent twice

@@ -8,7 +8,15 @@ namespace wmra {
 namespace config {
 
 constexpr uint16_t kLoopHz = 1000;
-constexpr uint8_t kMaxRxBytesPerTick = 32;     // serial bytes parsed per tick (bounds the loop)
+constexpr uint8_t kMaxRxBytesPerTick = 32;     // serial bytes read per tick (bounds the loop)
+// The parser's steps per tick, those bytes' included: a failed frame's bytes are looked at
+// again, a step each (those before the next sync in one: protocol/parser.h). A sender that repeats a frame cut short (8 of its 19
+// bytes) costs 2.4 steps a byte, 27 a tick at the line's 11.5 bytes; one whose every frame says
+// 64 bytes and brings 14, 3.7 (43): with 48 both are read as they come, a stop straight after
+// them obeyed within 10 ms (test_link_budget). A flood made to defeat the rescan costs up to 19:
+// most of it is lost (rx_overruns), a command straight after it too, until the line has been
+// quiet a while. Each step costs ~100 to 160 cycles, after the iteration in the same tick.
+constexpr uint8_t kMaxRxStepsPerTick = 48;
 
 // Joystick (lib/control/joystick.h), in ADC counts and Q15 per tick at 1 kHz
 constexpr uint16_t kStickRailMargin_counts = 20;
@@ -82,6 +90,9 @@ static_assert(kStickCalibrationSpread_counts >= 4 &&
 static_assert(kStickNeutral_ms >= 20 && kStickNeutral_ms <= 2000,
               "kStickNeutral_ms in [20, 2000]: a stick passing through the centre must not arm it, a person waits for it");
 static_assert(kMaxRxBytesPerTick >= 1, "kMaxRxBytesPerTick: the link must read (its lower bound is in arm_control.cpp)");
+static_assert(kMaxRxStepsPerTick >= kMaxRxBytesPerTick && kMaxRxStepsPerTick <= 2 * kMaxRxBytesPerTick,
+              "kMaxRxStepsPerTick in [kMaxRxBytesPerTick, 2 x]: a step for every byte read, and the rescans' at "
+              "most as many again (each ~115 cycles on the AVR, after the iteration in the same tick)");
 static_assert(kLongPressWhileRunning == LongPress::none || kLongPressWhileRunning == LongPress::go_to_stored_pose_0,
               "kLongPressWhileRunning: one of LongPress's values");
 static_assert(kDriftMaxCorrection_mm_s > 0,

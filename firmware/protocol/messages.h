@@ -19,7 +19,9 @@ enum class MsgType : uint8_t {
   cmd_get_calibration = 0x19, cmd_stick_centre = 0x1A,  // host -> firmware
 };
 
-enum class ReplyStatus : uint8_t { ok = 0, unknown_command = 1, bad_length = 2, bad_argument = 3, refused = 4 };
+// refused: the arm's state does not allow the command now; safety_held: a re-arm while the
+// safety button is held (released first, then re-armed)
+enum class ReplyStatus : uint8_t { ok = 0, unknown_command = 1, bad_length = 2, bad_argument = 3, refused = 4, safety_held = 5 };
 
 // BootMsg::calibration: where the firmware's calibration came from
 enum class Calibration : uint8_t { eeprom = 0, defaults_blank = 1, defaults_bad_crc = 2, defaults_other_version = 3 };

@@ -17,6 +17,7 @@ static_assert(kUbrr == 16, "115200 baud at 16 MHz with U2X");
 
 volatile uint8_t g_rx[kRxBytes];
 volatile uint8_t g_rx_head, g_rx_tail;
+volatile uint8_t g_arrived;
 // Page-aligned: the ISR's index is the low byte of the byte's address (no add, no carry)
 volatile uint8_t g_tx[kTxBytes] __attribute__((aligned(256)));
 volatile uint8_t g_tx_head, g_tx_tail;  // uint8 indices wrap at 256 by themselves
@@ -41,6 +42,8 @@ bool read(uint8_t& byte) {
 }
 
 bool received() { return g_rx_tail != g_rx_head; }
+
+uint8_t arrived() { return g_arrived; }
 
 bool write(const uint8_t* data, uint8_t count) {
   uint8_t head = g_tx_head;
@@ -69,6 +72,7 @@ using namespace wmra;
 ISR(USART0_RX_vect) {
   const bool lost = UCSR0A & (1 << DOR0);  // the receiver dropped a byte before this one
   const uint8_t byte = UDR0;
+  uart::g_arrived = (uint8_t)(uart::g_arrived + 1);
   const uint8_t head = uart::g_rx_head;
   const uint8_t next = (uint8_t)((head + 1) & (uart::kRxBytes - 1));
   if (lost || next == uart::g_rx_tail) {

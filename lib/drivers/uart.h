@@ -14,6 +14,10 @@ constexpr uint16_t kTxBytes = 256;
 void start();
 bool read(uint8_t& byte);
 bool received();  // a byte is waiting
+// bytes the line has brought, those lost included, modulo 256: a change between two reads is a
+// byte come in between (the link's measure of the line's silence, whether or not it has read
+// what came: a partial frame waits for the line, not for the reader)
+uint8_t arrived();
 bool write(const uint8_t* data, uint8_t count);  // false: no room, nothing queued
 uint16_t rx_overruns();  // bytes lost: ring full or the receiver's own overrun
 

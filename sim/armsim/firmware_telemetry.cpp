@@ -4,8 +4,11 @@ namespace wmra {
 namespace armsim {
 
 void FirmwareTelemetry::feed(uint8_t byte) {
-  if (!stream_.feed(byte)) return;
-  const protocol::Frame& f = stream_.frame();
+  stream_.push(byte);
+  while (stream_.next()) take(stream_.frame());
+}
+
+void FirmwareTelemetry::take(const protocol::Frame& f) {
   protocol::StateMsg state;
   protocol::ReplyMsg reply;
   protocol::BootMsg boot;

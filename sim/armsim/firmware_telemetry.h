@@ -30,6 +30,8 @@ class FirmwareTelemetry : public TelemetryDecoder {
   const telemetry::FrameStream& stream() const { return stream_; }  // frames, parser errors, seq gaps
 
  private:
+  void take(const protocol::Frame& f);  // a frame into the lists
+
   telemetry::FrameStream stream_;
   std::vector<protocol::StateMsg> states_;
   std::vector<protocol::ReplyMsg> replies_;

@@ -43,7 +43,7 @@ int main() {
     probe::stop(kWriteState);
     uint8_t frames = 0;
     probe::start(kParseState);
-    for (uint8_t i = 0; i < n; ++i) frames = (uint8_t)(frames + parser.feed(frame[i]));
+    for (uint8_t i = 0; i < n; ++i) frames = (uint8_t)(frames + parser.feed(frame[i]));  // as the firmware reads
     probe::stop(kParseState);
     probe::start(kDecodeState);
     const bool ok = decode(parser.frame(), decoded);

@@ -8,6 +8,7 @@
 
 #include "kinematics_vectors.h"
 #include "protocol/messages.h"
+#include "protocol/parser.h"
 
 namespace wmra {
 namespace protocol_vectors {
@@ -75,7 +76,8 @@ bool round_trip(Parser& parser, const Msg& m, Msg& back) {
   const uint8_t n = write_message(m, 1, frame);
   bool decoded = false;
   for (uint8_t i = 0; i < n; ++i) {
-    if (parser.feed(frame[i])) decoded = decode(parser.frame(), back);
+    parser.push(frame[i]);
+    while (parser.next()) decoded = decode(parser.frame(), back);
   }
   return decoded;
 }
@@ -116,14 +118,16 @@ void emit_all(Put& put) {
 
   Parser parser;
   for (uint8_t b : kStream) {
-    if (!parser.feed(b)) continue;
-    const Frame& f = parser.frame();
-    put('P');
-    hex(put, f.type, 2);
-    hex(put, f.seq, 2);
-    hex(put, f.len, 2);
-    hex(put, (uint8_t)check_command(f), 1);
-    bytes_line(put, ' ', f.payload, f.len);
+    parser.push(b);
+    while (parser.next()) {
+      const Frame& f = parser.frame();
+      put('P');
+      hex(put, f.type, 2);
+      hex(put, f.seq, 2);
+      hex(put, f.len, 2);
+      hex(put, (uint8_t)check_command(f), 1);
+      bytes_line(put, ' ', f.payload, f.len);
+    }
   }
   put('P');
   hex(put, parser.crc_errors(), 4);

@@ -6,6 +6,7 @@
 set(cases
   "config/control_config.h|kStickCalibrationSpread_counts = 12|kStickCalibrationSpread_counts = 20|kStickCalibrationSpread_counts:"
   "config/control_config.h|kMaxRxBytesPerTick = 32|kMaxRxBytesPerTick = 11|kMaxRxBytesPerTick:"
+  "config/control_config.h|kMaxRxStepsPerTick = 48|kMaxRxStepsPerTick = 30|kMaxRxStepsPerTick in"
   "config/control_config.h|kDriftMaxCorrection_mm_s = 20|kDriftMaxCorrection_mm_s = 51|kDriftMaxCorrection_mm_s at most"
   "config/gravity_config.h|{97, 30, 672}|{97, 30, -672}|kLinkCentre:"
   "config/joints_config.h|kHomingFast_crad_s[3] = {10, 30, 40}|kHomingFast_crad_s[3] = {25, 30, 40}|kHomingFast_crad_s: J1's"

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "protocol/messages.h"
+#include "protocol/parser.h"
 #include "protocol_frames.h"
 #include "protocol_vectors.h"
 
@@ -31,12 +32,21 @@ uint16_t crc_bitwise(const uint8_t* bytes, size_t n) {
   return crc;
 }
 
-// feeds bytes; returns every frame completed
+// feeds bytes back to back; returns every frame completed
 std::vector<Frame> feed_all(Parser& p, const std::vector<uint8_t>& bytes) {
   std::vector<Frame> frames;
   for (uint8_t b : bytes) {
-    if (p.feed(b)) frames.push_back(p.frame());
+    p.push(b);
+    while (p.next()) frames.push_back(p.frame());
   }
+  return frames;
+}
+
+// the line quiet for ms since its last byte: every frame the parser then finds in what it holds
+std::vector<Frame> silence(Parser& p, uint8_t ms) {
+  p.line_quiet(ms);
+  std::vector<Frame> frames;
+  while (p.next()) frames.push_back(p.frame());
   return frames;
 }
 
@@ -235,11 +245,11 @@ TEST(Parser, EveryFlippedBitIsRejectedAndCounted) {
     bad[bit / 8] ^= (uint8_t)(1u << (bit % 8));
     Parser p;
     EXPECT_TRUE(feed_all(p, bad).empty()) << bit;
-    // A length made longer may still be waiting for its bytes. One flipped bit makes the
-    // length 3 at most 35 (or > kMaxPayload: a framing error), so the bad frame swallows at
-    // most 32 bytes of the tail: three of its 10-byte frames, and the one it ends inside.
-    const auto after = feed_all(p, tail);
-    EXPECT_GE(after.size(), 8u) << bit;
+    // A length made longer takes the tail's first frames as its own; when its CRC fails (or,
+    // waiting still, the line falls silent) they are looked at again: none is lost.
+    auto after = feed_all(p, tail);
+    for (const Frame& f : silence(p, kByteGap_ms)) after.push_back(f);
+    EXPECT_EQ(after.size(), 12u) << bit;
     EXPECT_GE(p.crc_errors() + p.framing_errors() + p.skipped_bytes(), 1) << bit;
     for (const Frame& f : after) {
       EXPECT_EQ(frame_bytes(f.type, f.seq, std::vector<uint8_t>(f.payload, f.payload + f.len)), good) << bit;
@@ -254,7 +264,7 @@ TEST(Parser, GarbageThenAValidFrame) {
   const auto frames = feed_all(p, cat({garbage, message_bytes(BootMsg{1, 0}, 0)}));
   ASSERT_EQ(frames.size(), 1u);
   EXPECT_EQ(frames[0].type, (uint8_t)MsgType::boot);
-  EXPECT_EQ(p.skipped_bytes(), 6);   // 00 ff 13 77, and the two syncs before the frame's own
+  EXPECT_EQ(p.skipped_bytes(), 7);   // 00 ff 13, 01 looked at again, 77, and the two syncs before the frame's own
   EXPECT_EQ(p.framing_errors(), 1);  // version 1
   EXPECT_EQ(p.crc_errors(), 0);
 }
@@ -284,6 +294,225 @@ TEST(Parser, AByteLostCostsOnlyItsFrame) {
   EXPECT_EQ(p.crc_errors(), 1);
 }
 
+// SPEC 6's half frame (issue 30, finding 7): a host that dies mid-frame leaves a velocity
+// command cut after 3 of its 12 payload bytes; the next host sends stop frames.
+const std::vector<uint8_t> kHalfFrame = {0xA5, 0x02, 0x17, 0x05, 0x0C, 0x32, 0x00, 0x00};
+std::vector<uint8_t> stop_frame(uint8_t seq) { return frame_bytes((uint8_t)MsgType::cmd_stop, seq, {}); }
+
+TEST(Parser, HalfAFrameThenAGapThenStops) {
+  Parser p;
+  EXPECT_TRUE(feed_all(p, kHalfFrame).empty());
+  EXPECT_TRUE(silence(p, kByteGap_ms - 1).empty());
+  EXPECT_TRUE(p.holding()) << "a gap shorter than kByteGap_ms keeps the partial frame";
+  EXPECT_TRUE(silence(p, kByteGap_ms).empty());
+  EXPECT_FALSE(p.holding()) << "dropped after kByteGap_ms";
+  EXPECT_EQ(p.framing_errors(), 1);  // cut short
+  EXPECT_EQ(p.skipped_bytes(), 7);   // its bytes after the sync, looked at again
+  const auto frames = feed_all(p, cat({stop_frame(0), stop_frame(1)}));
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[0].type, (uint8_t)MsgType::cmd_stop);
+  EXPECT_EQ(frames[0].seq, 0);
+  EXPECT_EQ(frames[1].seq, 1);
+  EXPECT_EQ(p.crc_errors(), 0);
+}
+
+// No gap: the broken frame takes the stops' bytes as its tail. (The parser before the rescan
+// found neither stop: the first was payload, the second's sync and version too, and the rest
+// of it went to the hunt from the failed CRC's byte on.)
+TEST(Parser, HalfAFrameThenStopsWithNoGap) {
+  // two stops: the first and the second's sync and version complete its payload, the second's
+  // type and seq its CRC, which fails: the rescan finds the first in the bytes held, and the
+  // second once its last bytes come
+  Parser p;
+  const auto frames = feed_all(p, cat({kHalfFrame, stop_frame(0), stop_frame(1)}));
+  ASSERT_EQ(frames.size(), 2u);
+  EXPECT_EQ(frames[0].seq, 0);
+  EXPECT_EQ(frames[1].seq, 1);
+  EXPECT_EQ(p.crc_errors(), 1);
+  EXPECT_EQ(p.framing_errors(), 0);
+  EXPECT_EQ(p.skipped_bytes(), 7);
+  EXPECT_FALSE(p.holding());
+  // one stop: the broken frame still wants two bytes when the line falls silent; the stop is
+  // found when the gap drops it
+  Parser q;
+  EXPECT_TRUE(feed_all(q, cat({kHalfFrame, stop_frame(0)})).empty());
+  EXPECT_TRUE(silence(q, kByteGap_ms - 1).empty());
+  const auto late = silence(q, kByteGap_ms);
+  ASSERT_EQ(late.size(), 1u);
+  EXPECT_EQ(late[0].type, (uint8_t)MsgType::cmd_stop);
+  EXPECT_EQ(q.framing_errors(), 1);
+  EXPECT_EQ(q.crc_errors(), 0);
+}
+
+// Garbage of every kind, alone and in pairs, straight before a frame (no gap): the frame is
+// found, once, by the silence after it at the latest, and nothing else is.
+TEST(Parser, GarbageOfEveryKindBeforeAFrameWithNoGap) {
+  const std::vector<uint8_t> velocity = message_bytes(VelocityCmd{{150, -150, 0}, {0, 800, -800}}, 7);
+  const std::vector<uint8_t> state = message_bytes(sample_state(), 8);
+  std::vector<std::vector<uint8_t>> kinds = {
+      {0x00, 0xFF, 0x13},                    // noise
+      {0xA5},                                // a stray sync
+      {0xA5, 0xA5},                          // two
+      {0xA5, 0x01},                          // a wrong version
+      {0xA5, kVersion, 0x01, 0x00, 0x41},    // a length over kMaxPayload
+      {0xA5, kVersion, 0xA5, kVersion, 0x40},  // syncs inside a header, a length of 64
+  };
+  auto bad_crc = stop_frame(3);
+  bad_crc.back() ^= 0x40;
+  kinds.push_back(bad_crc);
+  // a frame cut short after every one of its bytes (the state frame's, 64 payload bytes, takes
+  // any frame after it whole)
+  for (const auto* whole : {&velocity, &state, &kHalfFrame})
+    for (size_t n = 1; n < whole->size(); ++n) kinds.emplace_back(whole->begin(), whole->begin() + (long)n);
+  size_t cases = 0;
+  for (const auto& frame : {stop_frame(9), velocity, state}) {
+    for (size_t a = 0; a < kinds.size(); ++a) {
+      for (size_t b = 0; b <= kinds.size(); b += 7) {  // alone (b == kinds.size() is none), and with every 7th kind after it
+        const std::vector<uint8_t> garbage = b < kinds.size() ? cat({kinds[a], kinds[b]}) : kinds[a];
+        Parser p;
+        auto found = feed_all(p, cat({garbage, frame}));
+        for (const Frame& f : silence(p, kByteGap_ms)) found.push_back(f);
+        ASSERT_EQ(found.size(), 1u) << "kind " << a << " then " << b << ", frame of " << frame.size();
+        EXPECT_EQ(frame_bytes(found[0].type, found[0].seq, std::vector<uint8_t>(found[0].payload, found[0].payload + found[0].len)),
+                  frame)
+            << "kind " << a << " then " << b;
+        EXPECT_FALSE(p.holding());
+        ++cases;
+      }
+    }
+  }
+  EXPECT_GT(cases, 1000u);
+}
+
+// A frame that comes with gaps shorter than kByteGap_ms between its bytes (a host writing it in
+// pieces) is whole.
+TEST(Parser, GapsShorterThanTheTimeoutInsideAFrame) {
+  const auto stop = stop_frame(5);
+  Parser p;
+  int found = 0;
+  for (uint8_t b : stop) {
+    p.push(b);
+    while (p.next()) ++found;
+    for (uint8_t ms = 0; ms < kByteGap_ms; ++ms) found += (int)silence(p, ms).size();
+  }
+  EXPECT_EQ(found, 1);
+  EXPECT_EQ(p.framing_errors() + p.crc_errors() + p.skipped_bytes(), 0);
+}
+
+// The silence is the line's only while every byte has been looked at: bytes waiting to be
+// looked at are not a gap (the firmware's rescans may leave some for a later tick).
+TEST(Parser, IdleWithBytesWaitingIsNoGap) {
+  const auto stop = stop_frame(6);
+  Parser p;
+  EXPECT_TRUE(feed_all(p, {stop.begin(), stop.begin() + 4}).empty());
+  p.push(stop[4]);  // not looked at yet
+  p.line_quiet(kByteGap_ms);
+  EXPECT_EQ(p.framing_errors(), 0);
+  auto found = feed_all(p, {});
+  while (p.next()) found.push_back(p.frame());
+  for (const Frame& f : feed_all(p, {stop.begin() + 5, stop.end()})) found.push_back(f);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].seq, 6);
+}
+
+// A gap ends every candidate that began before it: a partial frame inside the dropped one's
+// bytes is dropped too, so the first frame after the gap is found as it comes, not taken as
+// that one's tail (the stop below would be a 7-byte payload).
+TEST(Parser, CandidatesFromBeforeAGapEndAtIt) {
+  Parser p;
+  EXPECT_TRUE(feed_all(p, cat({kHalfFrame, {0xA5, kVersion, 0x10, 0x00, 0x07}})).empty());
+  EXPECT_TRUE(silence(p, kByteGap_ms).empty());
+  EXPECT_FALSE(p.holding());
+  EXPECT_EQ(p.framing_errors(), 2);
+  const auto frames = feed_all(p, stop_frame(1));
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].type, (uint8_t)MsgType::cmd_stop);
+}
+
+// A fuzzed line: valid frames, frames cut short, runs of bytes made of what frames are made of
+// (syncs, the version, short lengths), random bytes, and gaps of 1 to 5 ms between them, fed as
+// the firmware feeds them (feed, then steps until caught up). Every frame the parser gives is in
+// the line as it came, byte for byte, with a correct CRC (the ring's wrap and the rescans
+// assemble nothing else), and every valid frame with a gap of kByteGap_ms before and after it
+// is found.
+TEST(Parser, FuzzedLineWithGaps) {
+  std::mt19937 rng(3030u);
+  const auto pick = [&](uint32_t n) { return (uint32_t)(rng() % n); };
+  std::vector<uint8_t> line;
+  std::vector<uint8_t> quiet_after;  // the line's silence after each byte, ms
+  std::vector<std::vector<uint8_t>> isolated;  // the valid frames with a gap on either side
+  uint32_t serial = 0;
+  const auto add = [&](const std::vector<uint8_t>& bytes) {
+    for (uint8_t b : bytes) {
+      line.push_back(b);
+      quiet_after.push_back(0);
+    }
+  };
+  const auto gap = [&] {
+    if (!quiet_after.empty() && pick(4) != 0) quiet_after.back() = (uint8_t)(1 + pick(5));
+  };
+  while (line.size() < 400000) {
+    const uint32_t kind = pick(10);
+    std::vector<uint8_t> payload(pick(kMaxPayload + 1));
+    for (uint8_t& b : payload) b = (uint8_t)rng();
+    if (payload.size() >= 4)
+      for (int i = 0; i < 4; ++i) payload[i] = (uint8_t)(serial >> (8 * i));  // each frame its own
+    ++serial;
+    const std::vector<uint8_t> frame = frame_bytes((uint8_t)rng(), (uint8_t)rng(), payload);
+    if (kind < 3) {  // a valid frame, gaps of 1 to 5 ms before and after it or not
+      gap();
+      const bool gap_before = !quiet_after.empty() && quiet_after.back() >= kByteGap_ms;
+      add(frame);
+      gap();
+      if (gap_before && quiet_after.back() >= kByteGap_ms) isolated.push_back(frame);
+    } else if (kind < 5) {  // a frame cut short
+      add(std::vector<uint8_t>(frame.begin(), frame.begin() + 1 + pick((uint32_t)frame.size() - 1)));
+    } else if (kind < 8) {  // what frames are made of
+      const uint8_t parts[] = {kSync, kVersion, (uint8_t)pick(8), (uint8_t)pick(kMaxPayload + 2), (uint8_t)rng()};
+      std::vector<uint8_t> run(1 + pick(40));
+      for (uint8_t& b : run) b = parts[pick(5)];
+      add(run);
+    } else if (kind < 9) {
+      std::vector<uint8_t> run(1 + pick(40));
+      for (uint8_t& b : run) b = (uint8_t)rng();
+      add(run);
+    } else {
+      gap();
+    }
+  }
+
+  Parser p;
+  std::vector<std::vector<uint8_t>> found;
+  size_t max_steps = 0;
+  for (size_t i = 0; i < line.size(); ++i) {
+    size_t steps = 1;
+    std::vector<Frame> frames;
+    if (p.feed(line[i])) frames.push_back(p.frame());
+    for (; !p.caught_up(); ++steps)
+      if (p.step()) frames.push_back(p.frame());
+    if (quiet_after[i]) {
+      p.line_quiet(quiet_after[i]);
+      for (; !p.caught_up(); ++steps)
+        if (p.step()) frames.push_back(p.frame());
+    }
+    max_steps = std::max(max_steps, steps);
+    for (const Frame& f : frames) {
+      const std::vector<uint8_t> whole = frame_bytes(f.type, f.seq, std::vector<uint8_t>(f.payload, f.payload + f.len));
+      const auto from = line.begin() + (long)(i + 1 > 2 * kMaxFrameBytes ? i + 1 - 2 * kMaxFrameBytes : 0);
+      const auto at = std::search(from, line.begin() + (long)i + 1, whole.begin(), whole.end());
+      ASSERT_NE(at, line.begin() + (long)i + 1) << "a frame not in the line, at byte " << i;
+      ASSERT_EQ(le16(&*at + whole.size() - 2), crc_bitwise(&*at + 1, whole.size() - 3));
+      found.push_back(whole);
+    }
+  }
+  size_t missed = 0;
+  for (const auto& frame : isolated) missed += std::find(found.begin(), found.end(), frame) == found.end();
+  std::printf("%zu bytes, %zu frames found, %zu of them with a gap either side, %zu missed; at most %zu steps after a byte\n",
+              line.size(), found.size(), isolated.size(), missed, max_steps);
+  EXPECT_GT(isolated.size(), 1000u);
+  EXPECT_EQ(missed, 0u);
+}
+
 TEST(Parser, OneMegabyteOfRandomBytes) {
   std::mt19937 rng(20240501u);
   std::vector<uint8_t> bytes(1u << 20);
@@ -291,16 +520,18 @@ TEST(Parser, OneMegabyteOfRandomBytes) {
   Parser p;
   int valid = 0;
   for (size_t i = 0; i < bytes.size(); ++i) {
-    if (!p.feed(bytes[i])) continue;
-    ++valid;
-    // a frame the parser accepts is really in the stream, ending here, with a correct CRC
-    const Frame& f = p.frame();
-    const size_t size = f.len + kFrameOverhead;
-    ASSERT_GE(i + 1, size);
-    const uint8_t* start = &bytes[i + 1 - size];
-    EXPECT_EQ(frame_bytes(f.type, f.seq, std::vector<uint8_t>(f.payload, f.payload + f.len)),
-              std::vector<uint8_t>(start, start + size));
-    EXPECT_EQ(le16(start + size - 2), crc_bitwise(start + 1, size - 3));
+    p.push(bytes[i]);
+    while (p.next()) {
+      ++valid;
+      // a frame the parser accepts is really in the stream, within the bytes held (a rescan
+      // finds one that ends before this byte), with a correct CRC
+      const Frame& f = p.frame();
+      const std::vector<uint8_t> whole = frame_bytes(f.type, f.seq, std::vector<uint8_t>(f.payload, f.payload + f.len));
+      const auto from = bytes.begin() + (long)(i + 1 > 2 * kMaxFrameBytes ? i + 1 - 2 * kMaxFrameBytes : 0);
+      const auto found = std::search(from, bytes.begin() + (long)i + 1, whole.begin(), whole.end());
+      ASSERT_NE(found, bytes.begin() + (long)i + 1) << "a frame not in the stream at byte " << i;
+      EXPECT_EQ(le16(&*found + whole.size() - 2), crc_bitwise(&*found + 1, whole.size() - 3));
+    }
   }
   // a sync (1/256), version 2 (1/256), a length <= 64 (1/4) and the CRC (1/65536) by chance:
   // about 4 candidate frames per MB and 6e-5 valid ones

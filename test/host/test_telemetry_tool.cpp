@@ -34,7 +34,8 @@ namespace {
 Frame parse_one(const std::vector<uint8_t>& bytes) {
   Parser p;
   for (uint8_t b : bytes) {
-    if (p.feed(b)) return p.frame();
+    p.push(b);
+    if (p.next()) return p.frame();
   }
   ADD_FAILURE() << "no frame";
   return Frame{};
@@ -134,6 +135,16 @@ TEST(TelemetryJson, ReplyBootAndCommands) {
             "{\"type\":\"command\",\"command\":\"velocity\",\"seq\":6,\"v_mm_s\":[150,0,-1],\"w_mrad_s\":[0,800,0]}");
 }
 
+// every status the firmware replies with has its name; a newer one reads unknown_N
+TEST(TelemetryJson, EveryReplyStatusHasItsName) {
+  const char* const names[] = {"ok", "unknown_command", "bad_length", "bad_argument", "refused", "safety_held"};
+  for (uint8_t status = 0; status < 6; ++status) EXPECT_EQ(telemetry::status_name(status), names[status]);
+  EXPECT_EQ(telemetry::status_name((uint8_t)ReplyStatus::safety_held), "safety_held");
+  EXPECT_EQ(telemetry::status_name(6), "unknown_6");
+  EXPECT_EQ(to_json(parse_one(message_bytes(ReplyMsg{(uint8_t)MsgType::cmd_rearm, 9, (uint8_t)ReplyStatus::safety_held}, 42))),
+            "{\"type\":\"reply\",\"seq\":42,\"command\":\"rearm\",\"command_seq\":9,\"status\":\"safety_held\"}");
+}
+
 TEST(TelemetryJson, FramesThatDoNotFitTheirType) {
   EXPECT_EQ(to_json(parse_one(frame_bytes(0x13, 1, {101}))),
             "{\"type\":\"command\",\"command\":\"speed_scale\",\"seq\":1,\"error\":\"bad_argument\",\"payload\":\"65\"}");
@@ -159,12 +170,16 @@ TEST(FrameStream, CountsSeqGapsAndTheFramesMissingOfTheFirmwareOnly) {
   add(message_bytes(BootMsg{8, 0}, 0));            // a reset: no gap
   add(message_bytes(StateMsg{}, 1));
   int frames = 0;
-  for (uint8_t b : bytes) frames += s.feed(b);
+  for (uint8_t b : bytes) {
+    s.push(b);
+    while (s.next()) ++frames;
+  }
   EXPECT_EQ(frames, 8);
   EXPECT_EQ(s.frames(), 8u);
   EXPECT_EQ(s.seq_gaps(), 2u);
   EXPECT_EQ(s.missing_frames(), 3u);
-  EXPECT_EQ(s.summary(), "frames 8, crc errors 1, framing errors 0, skipped bytes 0, seq gaps 2");
+  // the bad frame's bytes after its sync, looked at again, are skipped
+  EXPECT_EQ(s.summary(), "frames 8, crc errors 1, framing errors 0, skipped bytes 6, seq gaps 2");
 }
 
 TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
@@ -231,7 +246,8 @@ TEST(WmraTelemetryCli, DecodeCountsWhatWentWrong) {
   const CliRun r = cli("decode " + path);
   EXPECT_EQ(r.status, 0);
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 2);
-  EXPECT_EQ(r.err, "wmra-telemetry: frames 2, crc errors 1, framing errors 1, skipped bytes 1, seq gaps 1\n");
+  // skipped: the bad frame's 65 bytes after its sync, looked at again, then 07 and 33
+  EXPECT_EQ(r.err, "wmra-telemetry: frames 2, crc errors 1, framing errors 1, skipped bytes 67, seq gaps 1\n");
 }
 
 TEST(WmraTelemetryCli, BadInputExitsWithTwo) {

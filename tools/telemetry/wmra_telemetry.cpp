@@ -233,9 +233,11 @@ telemetry::FrameStream decode_fd(int fd, const std::vector<uint8_t>& send, int e
       throw IoError{std::string("read: ") + std::strerror(errno)};
     }
     for (ssize_t i = 0; i < n; ++i) {
-      if (!stream.feed(buf[i])) continue;
-      std::printf("%s\n", telemetry::to_json(stream.frame()).c_str());
-      if (!send.empty() && !sent) send_now();
+      stream.push(buf[i]);
+      while (stream.next()) {
+        std::printf("%s\n", telemetry::to_json(stream.frame()).c_str());
+        if (!send.empty() && !sent) send_now();
+      }
     }
     std::fflush(stdout);
   }

@@ -5,6 +5,7 @@
 // Nothing moves: this image only talks.
 #include "board_io.h"
 #include "protocol/messages.h"
+#include "protocol/parser.h"
 
 namespace pr = wmra::protocol;
 
@@ -18,6 +19,14 @@ void send_message(const Msg& m) {
   uint8_t frame[pr::kMaxFrameBytes];
   const uint8_t n = pr::write_message(m, seq++, frame);
   for (uint8_t i = 0; i < n; ++i) io::uart0_send(frame[i]);
+}
+// the reply to a command, and what a valid mode or speed_scale sets
+void answer(const pr::Frame& f, pr::StateMsg& state) {
+  const pr::ReplyStatus status = pr::check_command(f);
+  if (status == pr::ReplyStatus::ok && f.type == (uint8_t)pr::MsgType::cmd_mode) state.mode = f.payload[0];
+  if (status == pr::ReplyStatus::ok && f.type == (uint8_t)pr::MsgType::cmd_speed_scale) state.speed_scale_pct = f.payload[0];
+  if (status != pr::ReplyStatus::ok) ++state.rx_rejected;
+  send_message(pr::ReplyMsg{f.type, f.seq, (uint8_t)status});
 }
 }  // namespace
 
@@ -40,13 +49,8 @@ int main() {
   state.speed_scale_pct = 100;
   for (;;) {
     while (tail != head) {
-      if (!parser.feed(rx[tail++ & 63])) continue;
-      const pr::Frame& f = parser.frame();
-      const pr::ReplyStatus status = pr::check_command(f);
-      if (status == pr::ReplyStatus::ok && f.type == (uint8_t)pr::MsgType::cmd_mode) state.mode = f.payload[0];
-      if (status == pr::ReplyStatus::ok && f.type == (uint8_t)pr::MsgType::cmd_speed_scale) state.speed_scale_pct = f.payload[0];
-      if (status != pr::ReplyStatus::ok) ++state.rx_rejected;
-      send_message(pr::ReplyMsg{f.type, f.seq, (uint8_t)status});
+      parser.push(rx[tail++ & 63]);
+      while (parser.next()) answer(parser.frame(), state);
     }
     if (TIFR1 & (1 << OCF1A)) {
       TIFR1 = 1 << OCF1A;
