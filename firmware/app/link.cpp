@@ -92,6 +92,11 @@ constexpr uint8_t kTestHangCommand = 0x7F;
 constexpr uint8_t kTestStallCommand = 0x7E;
 #endif
 
+// motion commands only with a stick the person can take them over with (SPEC 6)
+bool motion_allowed(const Status& st) {
+  return st.state == core::ArmState::running && !(st.faults & core::fault_mask(core::kFaultBitStickInvalid));
+}
+
 __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
 #ifdef WMRA_TEST_HOOKS
   if (f.type == kTestHangCommand) {
@@ -107,36 +112,38 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
 #endif
   const ReplyStatus check = protocol::check_command(f);
   if (check != ReplyStatus::ok) return check;
-  const Status& st = status();
-  const core::ArmState state = st.state;
-  // motion commands only with a stick the person can take them over with (SPEC 6)
-  const bool motion_allowed = state == core::ArmState::running && !(st.faults & core::fault_mask(core::kFaultBitStickInvalid));
+  // status() only where the state is read: it puts the whole report together (~2,300 cycles a
+  // command), and a flood of commands that do not read it overran ticks
   switch ((MsgType)f.type) {
     case MsgType::cmd_stop:
       rq.stop = true;
       return ReplyStatus::ok;
-    case MsgType::cmd_rearm:
+    case MsgType::cmd_rearm: {
+      const core::ArmState state = status().state;
       if (state != core::ArmState::stopped && state != core::ArmState::fault) return ReplyStatus::refused;
       rq.rearm = true;
       return ReplyStatus::ok;
+    }
     case MsgType::cmd_mode:
       return select_mode((config::Mode)f.payload[0]) ? ReplyStatus::ok : ReplyStatus::refused;
     case MsgType::cmd_speed_scale:
       set_speed_scale(f.payload[0]);
       return ReplyStatus::ok;
     case MsgType::cmd_home:
-      if (!core::accepts_home(state)) return ReplyStatus::refused;
+      if (!core::accepts_home(status().state)) return ReplyStatus::refused;
       rq.home = true;
       return ReplyStatus::ok;
-    case MsgType::cmd_goto_pose:
+    case MsgType::cmd_goto_pose: {
       // not from a closed limit switch: a move would not keep off it (the stick drives off it)
-      if (!motion_allowed || (st.switches & kSwitchesArmed) || !pose_valid(f.payload[0])) return ReplyStatus::refused;
+      const Status& st = status();
+      if (!motion_allowed(st) || (st.switches & kSwitchesArmed) || !pose_valid(f.payload[0])) return ReplyStatus::refused;
       rq.goto_slot = (int8_t)f.payload[0];
       return ReplyStatus::ok;
+    }
     case MsgType::cmd_store_pose:
       return store_pose(f.payload[0]) ? ReplyStatus::ok : ReplyStatus::refused;
     case MsgType::cmd_velocity: {
-      if (!motion_allowed) return ReplyStatus::refused;
+      if (!motion_allowed(status())) return ReplyStatus::refused;
       protocol::VelocityCmd v;
       if (!protocol::decode(f, v)) return ReplyStatus::bad_length;
       g_velocity_age_ms = 0;  // (a stream taken over is still arriving: it stays refused)
