@@ -335,7 +335,7 @@ TEST(FirmwareCalibration, PotCalibrationByCommandIsCheckedKeptAndUndone) {
   rig.sim.send_serial(command((MsgType)0x7F, seq++));
   rig.run_to(rig.sim.time_s() + 0.3);
   ASSERT_GE(rig.telemetry.boots().size(), 2u);
-  EXPECT_EQ(rig.telemetry.boots().back().calibration, (uint8_t)protocol::Calibration::eeprom);
+  EXPECT_EQ(rig.telemetry.boots().back().settings(), protocol::Calibration::eeprom);
   ASSERT_EQ(ask(MsgType::cmd_get_calibration, {}), ReplyStatus::ok);
   EXPECT_EQ(rig.telemetry.calibrations().back().at_min_counts_x16[1], new_min);
   EXPECT_EQ(rig.telemetry.calibrations().back().from_command, 2);
@@ -508,7 +508,7 @@ TEST(FirmwareStick, HeldAtPowerUpIsRefusedAgainstTheStoredCentre) {
   rig.sim.set_joystick(0.04, 0.0);
   rig.run_to(rig.sim.time_s() + 0.3);
   ASSERT_GE(rig.telemetry.boots().size(), 2u);
-  EXPECT_EQ(rig.telemetry.boots().back().calibration, (uint8_t)protocol::Calibration::eeprom);
+  EXPECT_EQ(rig.telemetry.boots().back().settings(), protocol::Calibration::eeprom);
   const double t_release = rig.sim.time_s() + 5.0;
   bool moved = false, left_wait_neutral = false;
   for (double t = rig.sim.time_s(); t < t_release; t += 0.05) {
@@ -696,7 +696,7 @@ SlotOneAfterPowerUp power_up_and_goto_slot_1(const std::vector<uint8_t>& eeprom)
   const double t_running = rig.start(12.0);
   SlotOneAfterPowerUp r;
   if (t_running < 0 || rig.telemetry.boots().empty()) return r;
-  r.calibration = rig.telemetry.boots()[0].calibration;
+  r.calibration = (int)rig.telemetry.boots()[0].settings();
   rig.sim.send_serial(command(protocol::MsgType::cmd_goto_pose, 1, {1}));
   rig.run_to(t_running + 5.0);
   if (!rig.telemetry.replies().empty()) r.goto_status = rig.telemetry.replies()[0].status;
