@@ -5,6 +5,7 @@
 
 #include "app/settings.h"
 #include "app/velocity_request.h"
+#include "app/wrist_angle.h"
 #include "config/control_config.h"
 #include "config/joints_config.h"
 #include "config/stop_config.h"
@@ -18,9 +19,12 @@
 #include "core/joint_move.h"
 #include "core/joint_acceleration.h"
 #include "core/joint_map.h"
+#include "core/ready_roll.h"
 #include "core/resolved_rate.h"
+#include "core/rest_watch.h"
 #include "core/stepper_tracking.h"
 #include "core/stick_twist.h"
+#include "core/wrist_homing.h"
 #include "drivers/adc_scan.h"
 #include "drivers/bridges.h"
 #include "drivers/inputs.h"
@@ -153,7 +157,7 @@ constexpr DcFeedforward kDcFeedforward[3] = {
     {fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[1]}), (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[1], 1), brake_feedforward_q8(1)},
     {fx::unit(Ratio{100, kDcFullDutySpeed_crad_s[2]}), (int16_t)accel_feedforward_q8(kDcInertiaAtWorm_gm2[2], 2), brake_feedforward_q8(2)}};
 
-constexpr uint16_t kHomingSwitch[3] = {1u << 1, 1u << 8, inputs::kJ6ZeroSwitch};  // J1 high, J5 low, J6 zero
+constexpr uint16_t kHomingSwitch[2] = {1u << 1, 1u << 8};  // J1 high, J5 low (J6: its zero switch, g_wrist)
 constexpr uint16_t kSwitchesArmedHoming = kSwitchesArmed & ~(1u << 1) & ~(1u << 8);
 static_assert(kHomingDir[0] > 0 && kHomingDir[1] < 0, "J1 homes to its high switch, J5 to its low one");
 constexpr bool stepper_speeds_ok(uint8_t i) {
@@ -246,9 +250,12 @@ uint8_t g_servo_elapsed;   // control ticks since the DC servos last ran (in one
 uint8_t g_ramp_elapsed;    // and since the stepper ramps last ran
 uint8_t g_motion_elapsed;  // and since the motion pass last ran (or the stick took over)
 uint8_t g_stick_elapsed;   // and since the stick was last sampled
+uint8_t g_wrist_elapsed;   // and since J6's zero switch and rest were last watched (watch_wrist)
 int32_t g_lag_slow_units[3], g_lag_stop_units[3];
 int16_t g_lag_inverse[3];  // 32767 / (stop - slow)
-core::StepperHoming g_homing[3];
+core::StepperHoming g_homing[2];  // J1, J5
+core::WristHoming g_wrist;         // J6
+core::RestWatch g_wrist_rest;      // when J6's angle is recorded
 core::JointReferences g_q;  // joint references
 fx::Real (&g_qd)[6] = g_q.qd_rad_s;  // joint reference velocities
 bool g_holding_governs;         // the last update is one the speed governor follows (every second)
@@ -364,16 +371,35 @@ WMRA_COLD void drives_on() {
   inputs::enable_unless_stopped(&outputs_on);
 }
 
+// The move after homing goes to the ready pose with J6 at the ready angle's turn nearest where J6
+// homed (core/ready_roll.h), worked out in the homing's last tick: the move's first tick is the
+// heaviest of a start-up (240 cycles more with it there).
+int32_t g_ready_angle[6];
+WMRA_COLD void plan_ready_pose() {
+  for (uint8_t j = 0; j < 6; ++j) g_ready_angle[j] = g_settings->pose_angle[0][j];
+  constexpr int32_t kSlack = fx::angle_deg(Ratio{kSoftLimitMargin_deg + kHomeSwitch_deg[2], 1}).raw;
+  g_ready_angle[5] = core::ready_roll(g_ready_angle[5], g_q.q.q[5].raw, fx::kAngleTurn, kLimits.joint[5].soft_min.raw,
+                                      kLimits.joint[5].soft_max.raw, kSlack);
+}
+
 // --- homing
 
-WMRA_COLD void homing_tick(uint16_t switches) {
+WMRA_COLD void homing_tick(uint16_t switches, uint8_t ticks) {
   bool all_done = true;
-  for (uint8_t i = 0; i < 3; ++i) {
+  for (uint8_t i = 0; i < 2; ++i) {
     g_homing[i].update((switches & kHomingSwitch[i]) != 0, steppers::running(i), steppers::rate(i));
     if (g_homing[i].failed()) g_faults |= core::fault_mask(core::kFaultBitHomingFailed);
     if (!g_homing[i].done()) all_done = false;
-    g_q.set(kStepperJoint[i], kStepperMap[i].angle(steppers::rate(i).position_steps()));
   }
+  g_wrist.update((switches & inputs::kJ6ZeroSwitch) != 0, steppers::running(2), ticks, steppers::rate(2));
+  if (g_wrist.failed()) g_faults |= core::fault_mask(core::kFaultBitHomingFailed);
+  if (!g_wrist.done()) all_done = false;
+  if (g_wrist.take_contradiction()) {  // the recorded angle is wrong: the next power-up sweeps
+    wrist_angle::forget();
+    g_wrist_rest.clear_recorded();
+  }
+  for (uint8_t i = 0; i < 3; ++i) g_q.set(kStepperJoint[i], kStepperMap[i].angle(steppers::rate(i).position_steps()));
+  if (all_done && !g_homed) plan_ready_pose();
   g_homed = all_done;
 }
 
@@ -673,13 +699,14 @@ WMRA_COLD void enter(core::ArmState state) {
     case core::ArmState::homing:
       drives_on();
       set_j1_stop(kStopConstants[0]);
-      for (uint8_t i = 0; i < 3; ++i) g_homing[i].restart();
+      for (uint8_t i = 0; i < 2; ++i) g_homing[i].restart();
+      g_wrist.restart();
       g_homed = false;
       inputs::arm_switches(kSwitchesArmedHoming);
       break;
     case core::ArmState::to_ready:
       if (g_prev_state == core::ArmState::wait_neutral) drives_on();  // the move again after a stop
-      begin_move(g_settings->pose_angle[0]);
+      begin_move(g_ready_angle);
       inputs::arm_switches(kSwitchesArmed);
       break;
     case core::ArmState::running:
@@ -873,7 +900,56 @@ constexpr core::HomingConfig homing_config(uint8_t i) {
                             steps_of_deg(i, kHomingMaxTravel_deg[i]),
                             steps_per_s(i, kHomingSlow_crad_s[i]) * kSwitchDelay_ms / 1000};
 }
-constexpr core::HomingConfig kHomingConfig[3] = {homing_config(0), homing_config(1), homing_config(2)};
+constexpr core::HomingConfig kHomingConfig[2] = {homing_config(0), homing_config(1)};
+
+// --- J6's turn (SPEC 5): its homing, its angle recorded at rest, its zero switch watched
+constexpr int32_t steps_of_mdeg(uint8_t i, int32_t mdeg) { return steps_of(i, mdeg / 360000.0); }
+// in flash: configure() copies it into g_wrist (as a constant it stayed in RAM besides, 55 bytes)
+const core::WristHomingConfig kWristHomingConfig PROGMEM{
+    (int32_t)kStepsPerJointTurn[2],
+    steps_of_deg(2, arm::q_max_deg[5]),
+    steps_of_deg(2, kHomeSwitch_deg[2]),
+    steps_of_deg(2, kHomingBackOff_deg[2]),
+    steps_of_mdeg(2, kJ6AngleTolerance_mdeg),
+    steps_per_s(2, kHomingFast_crad_s[2]),
+    steps_per_s(2, kHomingSlow_crad_s[2]),
+    steps_per_s(2, kHomingFast_crad_s[2]) * kSwitchDelay_ms / 1000,
+    steps_per_s(2, kHomingSlow_crad_s[2]) * kSwitchDelay_ms / 1000,
+    2 * kSwitchDelay_ms,
+    kHomingDir[2],
+    {steps_of_deg(2, kJ6Sweep_deg[0]), steps_of_deg(2, kJ6Sweep_deg[1]), steps_of_deg(2, kJ6Sweep_deg[2]),
+     steps_of_deg(2, kJ6Sweep_deg[3])}};
+static_assert(-arm::q_min_deg[5] == arm::q_max_deg[5] && arm::q_max_deg[5] % 360 == 0,
+              "J6's range whole turns either way: its ends are switches (core/wrist_homing.h)");
+// Once J6 is homed its zero switch closes only within this of a whole turn: the cam's half width,
+// what J6 turns at its speed limit while the switch's filter lets the closing (and the opening)
+// through late, the count's age (the stick's loop counts J6's steps every fourth tick) and 1 deg.
+constexpr int32_t kJ6ZeroWatch_steps =
+    steps_of_deg(2, kHomeSwitch_deg[2]) + steps_per_s(2, kJointSpeedLimit_crad_s[5]) * (kSwitchDelay_ms + 4) / 1000 + steps_of_deg(2, 1);
+static_assert(kJ6ZeroWatch_steps < (int32_t)kStepsPerJointTurn[2] / 4, "J6's zero switch watch tells a turn's switch from another's");
+
+// J6's zero switch, once J6 is homed: closed where the count says J6 is not at a whole turn, the
+// count is wrong (position_lost); J6's count is then taken to be within half a turn. And J6's
+// angle, recorded once it comes to rest (core/rest_watch.h). Once a schedule period (8 ms: at
+// J6's speed limit the switch's filter shows its cam closed for over 25 ms), in a tick whose
+// stepper ramps have just counted their steps; every tick it cost 120 cycles a tick.
+constexpr uint8_t kWristWatchPhase = kStepperSlot;
+static_assert(kWristWatchPhase < kSchedulePeriod_ticks, "J6's watch in the schedule");
+WMRA_COLD void watch_wrist(uint8_t ticks) {
+  constexpr int32_t kTurn = (int32_t)kStepsPerJointTurn[2];
+  const int32_t position = steppers::rate(2).position_steps();
+  if (g_homed && inputs::j6_zero_closed()) {
+    int32_t r = position;
+    if (r > kTurn / 2) r -= kTurn;
+    if (r < -kTurn / 2) r += kTurn;
+    if (r > kJ6ZeroWatch_steps || r < -kJ6ZeroWatch_steps) {
+      g_faults |= core::fault_mask(core::kFaultBitPositionLost);
+      g_homed = false;
+      g_wrist.set_belief(core::WristBelief::within_half_turn);
+    }
+  }
+  if (g_wrist_rest.update(position, g_homed, ticks)) wrist_angle::record(kStepperMap[2].angle(position));
+}
 
 constexpr core::DcServoConfig dc_servo_config(uint8_t d) {
   return core::DcServoConfig{
@@ -961,8 +1037,13 @@ WMRA_COLD void configure(Settings& settings) {
   for (uint8_t i = 0; i < 3; ++i) {
     steppers::rate(i).configure(kRampConstants[i]);
     steppers::rate(i).configure_stop(kStopConstants[i]);
-    g_homing[i].configure(kHomingConfig[i]);
+    if (i < 2) g_homing[i].configure(kHomingConfig[i]);
   }
+  core::WristHomingConfig wrist;
+  memcpy_P(&wrist, &kWristHomingConfig, sizeof wrist);
+  g_wrist.configure(wrist);
+  g_wrist_rest.configure(core::RestWatchConfig{(uint16_t)kJ6RestBeforeRecord_ms, (int16_t)steps_of_mdeg(2, kJ6RestBand_mdeg),
+                                                (int16_t)steps_of_mdeg(2, kJ6RecordChange_mdeg)});
 
   for (uint8_t d = 0; d < 3; ++d) {
     configure_pot(settings, d);
@@ -972,9 +1053,16 @@ WMRA_COLD void configure(Settings& settings) {
 
 }  // namespace
 
-WMRA_COLD void start(Settings& settings) {
+WMRA_COLD void start(Settings& settings, const fx::Angle* j6_at_rest) {
   g_settings = &settings;
   configure(settings);
+  // J6's count from its recorded angle: homing goes by it (core/wrist_homing.h)
+  if (j6_at_rest) {
+    const int32_t steps = kStepperMap[2].steps(*j6_at_rest);
+    steppers::rate(2).set_position(steps);
+    g_wrist_rest.set_recorded(steps);
+    g_wrist.set_belief(core::WristBelief::exact);
+  }
   adc::start(kAdcOrder, sizeof kAdcOrder, kAdcSweepPhase_us);
   set_speed_scale(100);
   g_gripper_us_q15 = (int32_t)kGripperStart_us << 15;
@@ -1102,7 +1190,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   bool stick_drives = false;  // the motion pass's ticks count from the first tick it drives
   switch (state) {
     case core::ArmState::homing:
-      homing_tick(switches);
+      homing_tick(switches, ticks);
       break;
     case core::ArmState::to_ready:
       move_tick(phase);
@@ -1169,6 +1257,11 @@ void iterate(Requests& rq, uint8_t ticks) {
     g_ramp_elapsed = 0;
   } else if ((g_phase + 1) % kStepperPeriod_ticks == kStepperSlot) {  // (the global: phase kept live to here cost ~70 cycles)
     steppers::count();
+  }
+  g_wrist_elapsed = control::add_saturated_u8(g_wrist_elapsed, ticks);
+  if (phase == kWristWatchPhase) {
+    watch_wrist(g_wrist_elapsed);
+    g_wrist_elapsed = 0;
   }
 
   rq.stop = rq.rearm = rq.home = false;

@@ -63,7 +63,8 @@ constexpr uint8_t kHandPositionAge_ms = 16;
 // low end's, 2j+1 the high end's); J6's zero switch is passed in normal motion.
 constexpr uint16_t kSwitchesArmed = 0x3FF;
 
-void start(Settings& settings);
+// j6_at_rest: J6's angle recorded in EEPROM (wrist_angle.h), nullptr when none is
+void start(Settings& settings, const fx::Angle* j6_at_rest);
 // one control iteration; `ticks` control ticks (1 ms) passed since the last one (more than one:
 // the loop overran, and the references advance by the time that passed)
 void iterate(Requests& requests, uint8_t ticks);

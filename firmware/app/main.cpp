@@ -1,10 +1,10 @@
 // The firmware of the wheelchair-mounted arm on the ATmega2560 (SPEC.md).
 //
 // Start-up: every output is made safe before anything else (drivers disabled, bridges low),
-// then the watchdog, the settings from EEPROM, the peripherals, and a boot frame with the
-// reset cause. Then, every 1 ms: one control iteration (its drives' loops included) with the
-// timing probe (D49) high,
-// the watchdog kicked, the serial link served and one EEPROM byte written if one is pending;
+// then the watchdog, the settings and J6's angle at rest from EEPROM, the peripherals, and a
+// boot frame with the reset cause and whether J6's angle was recorded. Then, every 1 ms: one
+// control iteration (its drives' loops included) with the timing probe (D49) high,
+// the watchdog kicked, the serial link served and an EEPROM byte written if one is pending;
 // between ticks the CPU sleeps (idle), which is what the simulator counts as free time.
 #include <avr/interrupt.h>
 #include <avr/io.h>
@@ -13,6 +13,7 @@
 #include "app/arm_control.h"
 #include "app/link.h"
 #include "app/settings.h"
+#include "app/wrist_angle.h"
 #include "drivers/bridges.h"
 #include "drivers/eeprom_store.h"
 #include "drivers/inputs.h"
@@ -21,6 +22,7 @@
 #include "drivers/system_tick.h"
 #include "drivers/uart.h"
 #include "drivers/watchdog.h"
+#include "protocol/messages.h"
 #include "wmra_mega/board.h"
 
 using namespace wmra;
@@ -34,11 +36,13 @@ int main() {
 
   static app::Settings settings;
   const eeprom_store::LoadResult loaded = app::load_settings(settings);
+  fx::Angle j6_at_rest;
+  const bool j6_recorded = app::wrist_angle::load(j6_at_rest);
   tick::start();
   uart::start();
   inputs::start(&app::stop_from_interrupt);
-  app::start(settings);
-  app::link::start(watchdog::reset_cause(), (uint8_t)loaded);
+  app::start(settings, j6_recorded ? &j6_at_rest : nullptr);
+  app::link::start(watchdog::reset_cause(), (uint8_t)((uint8_t)loaded | (j6_recorded ? protocol::kBootJ6AngleRecorded : 0)));
   sei();
 
   static app::Requests requests{false, false, false, -1, false, false, {0, 0, 0}, {0, 0, 0}};
@@ -56,5 +60,6 @@ int main() {
     watchdog::kick();
     app::link::poll(requests, ticks, counts > 8191 ? 0xFFFF : (uint16_t)(counts * 8));
     eeprom_store::service();
+    app::wrist_angle::service();
   }
 }

@@ -27,21 +27,42 @@ constexpr uint16_t kStepMaxInterval_ticks = 12500;
 // most sqrt(accel x |error|) (firmware/core/stepper_tracking.h)
 constexpr int16_t kStepperPositionGain_per_s = 20;
 
-// Homing (SPEC 5): J1 to its +90 deg switch, J5 to its -90 deg switch, J6 to its zero switch,
-// approached from above, which closes 2 deg before zero (its cam is +-2 deg wide).
+// Homing (SPEC 5): J1 to its +90 deg switch, J5 to its -90 deg switch, J6 to its zero switch.
+// J6's closes kHomeSwitch_deg[2] before each whole turn (0, +-360 deg) from either side (its cam
+// is +-2 deg wide, symmetric about zero); kHomingDir[2] is the direction J6 approaches 0 in when
+// it starts on the cam (-1: from above).
 constexpr int8_t kHomingDir[3] = {+1, -1, -1};
 constexpr int16_t kHomeSwitch_deg[3] = {90, -90, 2};
 // Fast approach: the ramp must brake within the 3 deg between a switch and its hard stop, and a
 // stop during homing keeps the hand within SPEC 6's 10 mm (J1: stop_config.h's check, with the
-// largest inertia at the farthest reach: the pose is not known before homing).
-constexpr int16_t kHomingFast_crad_s[3] = {10, 30, 40};
+// largest inertia at the farthest reach: the pose is not known before homing). J6 brakes on the
+// cam of the first switch it meets, so that it never turns past a switch, +-360 deg's included.
+constexpr int16_t kHomingFast_crad_s[3] = {10, 30, 25};
 constexpr int16_t kHomingSlow_crad_s[3] = {3, 3, 5};
-constexpr int16_t kHomingBackOff_deg[3] = {3, 3, 6};
-constexpr int16_t kHomingMaxTravel_deg[3] = {200, 200, 400};
+// J1, J5: how far they back off their switch before the slow approach; J6: how far before the
+// cam's edge its slow approach starts
+constexpr int16_t kHomingBackOff_deg[3] = {3, 3, 4};
+constexpr int16_t kHomingMaxTravel_deg[2] = {200, 200};  // J1, J5 (J6: below)
 // The limit switches' RC filter (47 kOhm x 1 uF, seed 2) and optocoupler see a closing about
 // two time constants late; homing corrects its slow approach by that delay. Measured in the
 // simulator's model of the board; measure it on a real board.
 constexpr int16_t kSwitchDelay_ms = 94;
+
+// J6's turn (SPEC 5, firmware/core/wrist_homing.h). Its angle at rest is recorded in EEPROM once
+// it has stayed within kJ6RestBand_mdeg (its tracking may dither a step or two) for
+// kJ6RestBeforeRecord_ms, at least kJ6RecordChange_mdeg from the angle last recorded, and homing
+// goes to the switch of the turn nearest it: at most half a turn and the cam away. The recorded angle must be where the switch says within kJ6AngleTolerance_mdeg, or
+// the homing stops J6 (docs/arm-guide.md: a wrist turned by hand while switched off).
+constexpr int16_t kJ6RestBeforeRecord_ms = 1000;
+constexpr int16_t kJ6RestBand_mdeg = 500;
+constexpr int16_t kJ6RecordChange_mdeg = 1000;
+constexpr int16_t kJ6AngleTolerance_mdeg = 1500;
+// With no recorded angle (a new board, a lost EEPROM) J6 is taken to be within half a turn of
+// 0: sweeps from where it starts, to these angles from there in turn, find the nearest switch.
+// The first legs are short, so that a J6 near 0 homes with a short roll; the last two reach
+// 180 deg less the cam's half width either way, where the next turn's switch is still out of
+// reach.
+constexpr int16_t kJ6Sweep_deg[4] = {-30, 90, -178, 178};
 
 // The ready pose after homing (off the singular J5 = -90 deg), J1..J6, deg
 constexpr int16_t kReadyPose_deg[6] = {70, 20, -70, 50, -30, 0};
@@ -165,7 +186,7 @@ constexpr bool stepper_config_ok() {
       return false;
     // the slow approach is not below the slowest step (it would be a stop)
     if (kHomingSlow_crad_s[i] * (double)kStepsPerJointTurn[i] * kStepMaxInterval_ticks < 100 * 6.2832 * 250000) return false;
-    if (kHomingBackOff_deg[i] < 1 || kHomingBackOff_deg[i] > 20 || kHomingMaxTravel_deg[i] < 90) return false;
+    if (kHomingBackOff_deg[i] < 1 || kHomingBackOff_deg[i] > 20 || (i < 2 && kHomingMaxTravel_deg[i] < 90)) return false;
     if (kHomingDir[i] != 1 && kHomingDir[i] != -1) return false;
   }
   return true;
@@ -191,16 +212,43 @@ constexpr bool home_switches_ok() {
 }
 static_assert(home_switches_ok(), "kHomeSwitch_deg: each switch within its joint's range (arm_model.h)");
 // J1 and J5 home to a switch 3 deg before their hard stop: the fast approach runs on for the
-// switch's delay before it is seen, then brakes at the ramp's acceleration (J6's zero switch has
-// no stop behind it)
-constexpr bool homing_stops_before_hard_stop(int i) {
-  return kHomingFast_crad_s[i] / 100.0 * kSwitchDelay_ms / 1000.0 +
-             (kHomingFast_crad_s[i] / 100.0) * (kHomingFast_crad_s[i] / 100.0) / (2 * kStepperAccel_crad_s2[i] / 100.0) <
-         3 * 3.14159265 / 180;
+// switch's delay before it is seen, then brakes at the ramp's acceleration. J6's zero switch has
+// no stop behind it, but its fast approach brakes within the cam's half width (its edge 2 deg
+// before a whole turn): a switch met at +-358 deg stops J6 within its +-360 deg range.
+constexpr double homing_overrun_deg(int i) {
+  return (kHomingFast_crad_s[i] / 100.0 * kSwitchDelay_ms / 1000.0 +
+          (kHomingFast_crad_s[i] / 100.0) * (kHomingFast_crad_s[i] / 100.0) / (2 * kStepperAccel_crad_s2[i] / 100.0)) *
+         180 / 3.14159265;
 }
-static_assert(homing_stops_before_hard_stop(0) && homing_stops_before_hard_stop(1),
+static_assert(homing_overrun_deg(0) < 3 && homing_overrun_deg(1) < 3,
               "kHomingFast_crad_s: J1's and J5's fast approach (the switch's delay, then braking at "
               "kStepperAccel_crad_s2) must stop within the 3 deg between the switch and the hard stop");
+static_assert(homing_overrun_deg(2) < kHomeSwitch_deg[2],
+              "kHomingFast_crad_s[2]: J6's fast approach (the switch's delay, then braking at kStepperAccel_crad_s2[2]) "
+              "must stop within kHomeSwitch_deg[2], the zero cam's half width, of the cam's edge");
+static_assert(kHomeSwitch_deg[2] >= 1 && kHomeSwitch_deg[2] <= 10 && kJ6AngleTolerance_mdeg > 0 &&
+                  kJ6AngleTolerance_mdeg < kHomeSwitch_deg[2] * 1000 && kJ6AngleTolerance_mdeg < kHomingBackOff_deg[2] * 1000,
+              "kHomeSwitch_deg[2] (J6's cam half width) in [1, 10] deg; kJ6AngleTolerance_mdeg above 0 and within the "
+              "half width and J6's slow run-up (kHomingBackOff_deg[2]): the switch must tell a recorded angle that is off");
+static_assert(kHomingBackOff_deg[2] > kHomeSwitch_deg[2],
+              "kHomingBackOff_deg[2] (J6's slow run-up) more than kHomeSwitch_deg[2] (its cam's half width): J6 started on "
+              "its cam backs off both and must leave the cam");
+static_assert(kJ6RestBand_mdeg > 0 && kJ6RestBand_mdeg < kJ6RecordChange_mdeg && kJ6RecordChange_mdeg <= kJ6AngleTolerance_mdeg &&
+                  kJ6RestBeforeRecord_ms >= 100 && kJ6RestBeforeRecord_ms <= 10000,
+              "0 < kJ6RestBand_mdeg < kJ6RecordChange_mdeg <= kJ6AngleTolerance_mdeg: a recorded angle stays within the "
+              "tolerance of where J6 rests; kJ6RestBeforeRecord_ms in [100, 10000]");
+constexpr bool j6_sweep_ok() {
+  // each leg the other way and wider, the last two the widest either way, short of the next turn's switch
+  for (int k = 1; k < 4; ++k)
+    if ((kJ6Sweep_deg[k] > 0) == (kJ6Sweep_deg[k - 1] > 0) ||
+        (kJ6Sweep_deg[k] < 0 ? -kJ6Sweep_deg[k] : kJ6Sweep_deg[k]) < (kJ6Sweep_deg[k - 1] < 0 ? -kJ6Sweep_deg[k - 1] : kJ6Sweep_deg[k - 1]))
+      return false;
+  const int last = kJ6Sweep_deg[3] < 0 ? -kJ6Sweep_deg[3] : kJ6Sweep_deg[3];
+  const int before = kJ6Sweep_deg[2] < 0 ? -kJ6Sweep_deg[2] : kJ6Sweep_deg[2];
+  return kJ6Sweep_deg[0] != 0 && last == before && last <= 180 - kHomeSwitch_deg[2] && last >= 180 - 2 * kHomeSwitch_deg[2];
+}
+static_assert(j6_sweep_ok(), "kJ6Sweep_deg: alternating signs, each leg at least as wide as the one before, the last two "
+                             "the same width either way, 180 deg less one to two of J6's cam half widths");
 constexpr bool switch_delay_ok() {
   for (int i = 0; i < 3; ++i)
     if (kHomingSlow_crad_s[i] / 100.0 * kSwitchDelay_ms / 1000.0 >= kHomingBackOff_deg[i] * 3.14159265 / 180) return false;

@@ -23,8 +23,11 @@ enum class MsgType : uint8_t {
 // safety button is held (released first, then re-armed)
 enum class ReplyStatus : uint8_t { ok = 0, unknown_command = 1, bad_length = 2, bad_argument = 3, refused = 4, safety_held = 5 };
 
-// BootMsg::calibration: where the firmware's calibration came from
+// BootMsg::calibration: where the firmware's calibration came from (bits 0..6), and in bit 7
+// whether J6's angle at rest was recorded (set: J6 homes to the turn it implies; clear: none was,
+// J6 homes by sweeps that take it to be within half a turn of 0, SPEC 5)
 enum class Calibration : uint8_t { eeprom = 0, defaults_blank = 1, defaults_bad_crc = 2, defaults_other_version = 3 };
+constexpr uint8_t kBootJ6AngleRecorded = 0x80;
 
 constexpr uint16_t kStatePeriod_ms = 20;       // state frames at 50 Hz
 constexpr uint16_t kVelocityTimeout_ms = 100;  // the firmware stops when streamed velocity pauses this long
@@ -122,7 +125,10 @@ struct ReplyMsg {  // to every command; the frame's own seq is the firmware's co
 
 struct BootMsg {  // once at start-up, before the first state frame
   uint8_t reset_cause;  // MCUSR, as in StateMsg
-  uint8_t calibration;  // Calibration
+  uint8_t calibration;  // Calibration, | kBootJ6AngleRecorded
+
+  Calibration settings() const { return (Calibration)(calibration & ~kBootJ6AngleRecorded); }
+  bool j6_angle_recorded() const { return (calibration & kBootJ6AngleRecorded) != 0; }
 
   static constexpr MsgType kType = MsgType::boot;
   template <class Io, class Self>

@@ -7,7 +7,7 @@
 namespace wmra {
 namespace eeprom_store {
 
-static_assert(2 * kCopyBytes <= E2END + 1, "both copies fit the EEPROM");
+static_assert(eeprom_map::kBytes == E2END + 1, "the map is the chip's EEPROM");
 
 namespace {
 
@@ -25,7 +25,7 @@ uint8_t g_valid_copy;        // holds the newest valid block (none: 1, so the fi
 uint8_t g_valid_generation;  // its generation
 uint8_t g_target_copy;       // the copy being written
 
-uint16_t copy_address(uint8_t copy) { return copy ? kCopyBytes : 0; }
+uint16_t copy_address(uint8_t copy) { return copy ? eeprom_map::kSettingsCopy[1] : eeprom_map::kSettingsCopy[0]; }
 
 __attribute__((noinline)) uint16_t crc_of(const uint8_t* header, uint8_t header_bytes, const uint8_t* data, uint16_t size) {
   uint16_t crc = protocol::crc16_update(0xFFFF, header, header_bytes);

@@ -14,16 +14,16 @@
 
 #include <stdint.h>
 
+#include "drivers/eeprom_map.h"
+
 namespace wmra {
 namespace eeprom_store {
 
 enum class LoadResult : uint8_t { loaded = 0, blank = 1, bad_crc = 2, other_version = 3 };
 
-// the copies split the ATmega2560's 4 KB: copy 0 at address 0, copy 1 at kCopyBytes; a copy
-// is its header, the data and the CRC
-constexpr uint16_t kCopyBytes = 2048;
+// the copies' places (eeprom_map.h); a copy is its header, the data and the CRC
 constexpr uint16_t kHeaderBytes = 6;  // magic (2), version, size (2), generation
-constexpr uint16_t kMaxDataBytes = kCopyBytes - kHeaderBytes - 2;
+constexpr uint16_t kMaxDataBytes = eeprom_map::kSettingsCopyBytes - kHeaderBytes - 2;
 
 // Reads the newest valid block of this version and size into data (size bytes); anything but
 // loaded leaves data undefined: the caller then sets its defaults.

@@ -62,6 +62,7 @@ inline uint16_t closed_from<kSwitchBits>(uint16_t closed) {
 }
 
 uint16_t closed_switches() { return closed_from<0>(0); }
+bool j6_zero_closed() { return closed_from<10>(0) != 0; }
 
 bool safety_pressed() { return pins::read(board::kSafetyButton); }
 bool joystick_button_down() { return !pins::read(board::kJoystickButton); }

@@ -19,6 +19,7 @@ constexpr uint16_t kJ6ZeroSwitch = 1u << 10;
 using StopHook = void (*)();
 void start(StopHook stop);
 uint16_t closed_switches();
+bool j6_zero_closed();  // closed_switches() & kJ6ZeroSwitch, one pin read
 bool safety_pressed();        // now (the pin)
 bool joystick_button_down();  // now (the pin)
 // Switches whose closing stops the arm from the interrupt (the loop changes it with the state).

@@ -41,6 +41,7 @@ class ArmPlant {
   void set_button(bool down) { button_.set(down, t_); }
   void set_estop(bool down) { estop_.set(down, t_); }
   void set_pot_fault(int joint, PotFault f) { pots_[joint - 1].set_fault(f); }
+  void slip_stepper(int joint, int periods) { steppers_[stepper_slot(joint)].slip(periods); }  // StepperJoint::slip
 
   // --- time
   void step(double dt);

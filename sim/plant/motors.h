@@ -56,6 +56,9 @@ class StepperJoint {
   void set_enabled(bool on) { enabled_ = on; }
   // one microstep from the driver's indexer, +1 or -1
   void microstep(int direction);
+  // An outside torque (a knock on the hand) turns the rotor through whole electrical periods (4
+  // full steps each, signed): the drive holds it in the new well, and its steps are lost.
+  void slip(int periods) { s_.angle_rad += periods * 2.0 * kPi / kRotorPolePairs; }
   void step(double dt, double link_inertia_kgm2, double load_torque_nm);
 
   double q() const { return s_.angle_rad / gear_; }

@@ -128,6 +128,8 @@ class ArmSimulator {
   void set_estop(bool down);
   void set_joystick_unplugged(bool open);
   void set_pot_fault(int joint, plant::PotFault fault);  // joint index 1..3 (J2..J4)
+  // a knock on a stepper joint (0, 4, 5): its rotor turned through whole electrical periods
+  void slip_stepper(int joint, int periods) { plant_.slip_stepper(joint, periods); }
   void send_serial(const std::vector<uint8_t>& bytes);   // queued, sent at the line's baud rate
   // The chip's EEPROM from address 0, as an earlier firmware left it (before the first run)
   void set_eeprom(const std::vector<uint8_t>& bytes);

@@ -119,13 +119,16 @@ TEST(TelemetryJson, ReplyBootAndCommands) {
   EXPECT_EQ(to_json(parse_one(message_bytes(ReplyMsg{0x30, 4, 1}, 41))),
             "{\"type\":\"reply\",\"seq\":41,\"command\":\"unknown_48\",\"command_seq\":4,\"status\":\"unknown_command\"}");
   EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{1 << 3, 1}, 0))),
-            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\"],\"calibration\":\"defaults_blank\"}");
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\"],\"calibration\":\"defaults_blank\",\"j6_angle\":\"none\"}");
   EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x05, 0}, 0))),
-            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\",\"brown_out\"],\"calibration\":\"eeprom\"}");
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\",\"brown_out\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\"}");
   EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x88, 0}, 0))),
-            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\",\"inferred\"],\"calibration\":\"eeprom\"}");
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\",\"inferred\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\"}");
   EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x60, 0}, 0))),
-            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"bit_5\",\"bit_6\"],\"calibration\":\"eeprom\"}");
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"bit_5\",\"bit_6\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\"}");
+  // bit 7 of the calibration byte: J6's angle at rest was recorded (the settings' source apart)
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x01, 0x82}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\"],\"calibration\":\"defaults_bad_crc\",\"j6_angle\":\"recorded\"}");
   EXPECT_EQ(to_json(parse_one(message_bytes(CalibrationMsg{{819, 819, 819}, {15564, 15564, 15000}, {4000, 8000, -3}, 4}, 7))),
             "{\"type\":\"calibration\",\"seq\":7,\"at_min_counts_x16\":[819,819,819],\"at_max_counts_x16\":"
             "[15564,15564,15000],\"reading_counts_x16\":[4000,8000,-3],\"from_command\":4}");
@@ -394,7 +397,7 @@ TEST(WmraTelemetryCli, ListenOnAPseudoTerminal) {
   }
   const int status = listen.stop();
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
-  EXPECT_NE(out.find("{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\"],\"calibration\":\"eeprom\"}\n"),
+  EXPECT_NE(out.find("{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\"}\n"),
             std::string::npos)
       << out;
   EXPECT_NE(out.find("{\"type\":\"reply\",\"seq\":1,\"command\":\"stop\",\"command_seq\":9,\"status\":\"ok\"}\n"),

@@ -107,7 +107,8 @@ bool add_report(Object& o, const Frame& f) {
     o.str("status", status_name(reply.status));
   } else if (protocol::decode(f, boot)) {
     o.strs("reset_cause", reset_cause_names(boot.reset_cause));
-    o.str("calibration", calibration_name(boot.calibration));
+    o.str("calibration", calibration_name((uint8_t)boot.settings()));
+    o.str("j6_angle", boot.j6_angle_recorded() ? "recorded" : "none");
   } else if (protocol::decode(f, calibration)) {
     o.nums("at_min_counts_x16", calibration.at_min_counts_x16);
     o.nums("at_max_counts_x16", calibration.at_max_counts_x16);
