@@ -71,10 +71,6 @@ __attribute__((optimize("Os"))) BaseLoad base_load(const Trig& t) {
   const uint16_t reach = (uint16_t)((ha > ho ? ha + (ho >> 1) : ho + (ha >> 1)) + 4);
   return BaseLoad{inertia, reach};
 }
-template <class Trig>
-uint16_t base_inertia_gm2(const Trig& t) {
-  return base_load(t).inertia_gm2;
-}
 
 }  // namespace core
 }  // namespace wmra

@@ -311,7 +311,6 @@ void halt_trains() {
 }
 
 void resume() { g_halting = false; }
-bool halting() { return g_halting; }
 bool at_rest() { return g_running == 0; }
 
 bool running(uint8_t i) { return g_running & (1 << i); }

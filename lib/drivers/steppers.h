@@ -39,7 +39,6 @@ void enable_drivers(bool on);
 // no train is started.
 void halt_trains();
 void resume();
-bool halting();
 // From any context, also an ISR: no more edges (STEP low, interrupts off), drivers disabled: a
 // hang's cut (watchdog.h) and the optional release after a stop. service() then only counts
 // the steps made, and nothing is started until enable_drivers(true).
