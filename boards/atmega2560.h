@@ -11,7 +11,6 @@
 namespace wmra {
 namespace m2560 {
 
-constexpr uint32_t kCpuHz = 16000000;
 constexpr uint16_t kRamStart = 0x200;
 constexpr uint16_t kRamEnd = 0x21FF;
 constexpr uint16_t kSpl = 0x5D, kSph = 0x5E;

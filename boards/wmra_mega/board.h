@@ -97,7 +97,12 @@ constexpr Pin kTimingProbe = {Port::L, 0, 49};  // high for the whole of each co
 
 // UART0 (the USB serial of the Mega): telemetry and commands at 115200 baud
 constexpr uint32_t kSerialBaud = 115200;
+// The crystal: the one definition of the CPU clock (the toolchain's F_CPU, for avr-libc's
+// delay and baud helpers, must agree)
 constexpr uint32_t kCpuHz = 16000000;
+#ifdef F_CPU
+static_assert(F_CPU == kCpuHz, "F_CPU (toolchain/avr-gcc.cmake's AVR_F_CPU) is the board's clock");
+#endif
 
 // --- the timer plan, checked
 constexpr bool same_pin(Pin a, Pin b) { return a.port == b.port && a.bit == b.bit; }

@@ -1,17 +1,11 @@
-// The arm's control: one iteration per 1 kHz tick. Every tick reads the pots and switches,
-// checks them and updates the supervisor; while the stick drives, the motion pass (with the
-// stick's sample) and the DC servos alternate, each every second tick (config::kMotionSlot),
-// and the steppers' ramps follow every fourth (config::kStepperSlot).
-//
-//   inputs     ADC scan (stick, pots), switches, buttons
-//   checks     potentiometer plausibility, limit switches, tracking -> latched faults
-//   supervisor the state (boot .. running, stopped, fault) and the mode
-//   motion     homing / joint moves to a pose / resolved rate from the stick or a streamed
-//              velocity, into joint references q_ref (Angle)
-//   drives     steppers: ramp speed = q_ref's rate + a position loop on the step count;
-//              DC joints: PID (or relay) on the pot towards q_ref
-// Everything that decides is in firmware/core and lib/ (host-tested); this file wires it to the
-// drivers. The serial link (link.h) reads the state and sends requests through Requests.
+// The arm's control as the rest of the firmware sees it: start(), one iteration per 1 kHz tick
+// (iterate, arm_control.cpp), the stop hooks, the report and the link's commands. The data path,
+// file by file: the stick and the pots (arm_control.cpp, the inputs) -> the twist, J^-1 and the
+// limits (motion.cpp) or a move to a pose (joint_moves.cpp) or homing (homing.cpp) -> the joints'
+// references (arm.h) -> the DC servos (dc_drives.cpp) and the stepper ramps (stepper_drives.cpp)
+// -> the pins (lib/drivers). Which job runs in which tick: tick_plan.h. Everything that decides is
+// in firmware/core and lib/ (host-tested); the app wires it to the drivers. The serial link
+// (link.h) reads the report and sends requests through Requests.
 #pragma once
 
 #include <stdint.h>

@@ -41,18 +41,16 @@ constexpr uint16_t kMaxWrist_mrad_s = (uint16_t)(config::kMaxWristSpeed_rad_s.nu
 
 int16_t to_i16(int32_t v) { return (int16_t)(v > 32767 ? 32767 : v < -32767 ? -32767 : v); }
 
-// One function per unit, each flattened: apply() inlined with its constant scale, whose shift is
-// then a byte move and a few bits (link.cpp is built for size, which calls apply() with the
-// scale as an argument: its shift a loop, ~125 cycles a field, 15 fields a frame).
-__attribute__((flatten)) int16_t mrad(fx::Angle a) {
+// One function per unit, each with its constant scale (a shift by whole bytes and a few bits)
+int16_t mrad(fx::Angle a) {
   constexpr core::Scale kMrad = core::scale_for(1000.0 / core::kAngleCountsPerRad);
   return to_i16(core::apply(kMrad, a.raw));
 }
-__attribute__((flatten)) int16_t mrad_s(fx::Real r) {
+int16_t mrad_s(fx::Real r) {
   constexpr core::Scale kMradPerS = core::scale_for(1000.0 / core::kRealPerRad);
   return to_i16(core::apply(kMradPerS, r.raw));
 }
-__attribute__((flatten)) int16_t tenth_mm(fx::Real r) {
+int16_t tenth_mm(fx::Real r) {
   constexpr core::Scale kTenthMm = core::scale_for(10000.0 / core::kRealPerRad);
   return to_i16(core::apply(kTenthMm, r.raw));
 }
@@ -105,7 +103,7 @@ bool motion_allowed(const Status& st) {
   return st.state == core::ArmState::running && !(st.faults & core::fault_mask(core::kFaultBitStickInvalid));
 }
 
-__attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
+ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
 #ifdef WMRA_TEST_HOOKS
   if (f.type == kTestHangCommand) {
     for (;;) {
@@ -188,7 +186,7 @@ __attribute__((noinline)) ReplyStatus handle(const protocol::Frame& f, Requests&
   return ReplyStatus::unknown_command;
 }
 
-__attribute__((noinline)) void send_state() {
+void send_state() {
   const Status& s = status();
   if (!motion_allowed(s)) g_stream_ended = true;  // a stop between two commands of the stream
   protocol::StateMsg& m = g_frame.state.msg;  // every field is set below
@@ -218,7 +216,7 @@ __attribute__((noinline)) void send_state() {
   g_loop_cycles_max = 0;
 }
 
-__attribute__((noinline)) void send_calibration() {
+void send_calibration() {
   // not sent: it is sent on a later tick, nothing is lost, so it gives its number back (no gap)
   if (send(MsgType::calibration, protocol::encode(calibration(), kPayload)))
     g_send_calibration = false;
@@ -230,7 +228,7 @@ __attribute__((noinline)) void send_calibration() {
 // (kMaxRxBytesPerTick of them at most) or one held again after a failed frame: a rescan leaves
 // the line's bytes waiting in the ring, it does not lengthen the tick. With every byte read and
 // looked at, the line's silence drops a partial frame (kByteGap_ms).
-__attribute__((noinline)) void receive(Requests& rq) {
+void receive(Requests& rq) {
   if (!uart::received()) g_parser.line_quiet(g_quiet_ms);
   uint8_t bytes = config::kMaxRxBytesPerTick, byte;
   for (uint8_t n = config::kMaxRxStepsPerTick; n > 0; --n) {

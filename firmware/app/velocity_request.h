@@ -1,7 +1,5 @@
 // The serial link's velocity command (Requests: mm/s and mrad/s in the base frame) as the twist
 // J^-1 takes: clamped to the hand's and the wrist's speed limits, w about the wrist axes.
-// A translation unit of its own, built for size: a telemetry command, rare (twist_wrist's copy
-// in arm_control.cpp was at its -O3, 1.2 KB).
 #pragma once
 
 #include "app/arm_control.h"

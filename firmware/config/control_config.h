@@ -89,7 +89,7 @@ static_assert(kStickCalibrationSpread_counts >= 4 &&
               "and half of it (the mean's distance from a released stick) inside the dead zone");
 static_assert(kStickNeutral_ms >= 20 && kStickNeutral_ms <= 2000,
               "kStickNeutral_ms in [20, 2000]: a stick passing through the centre must not arm it, a person waits for it");
-static_assert(kMaxRxBytesPerTick >= 1, "kMaxRxBytesPerTick: the link must read (its lower bound is in arm_control.cpp)");
+static_assert(kMaxRxBytesPerTick >= 1, "kMaxRxBytesPerTick: the link must read (its lower bound is in config/derived.h)");
 static_assert(kMaxRxStepsPerTick >= kMaxRxBytesPerTick && kMaxRxStepsPerTick <= 2 * kMaxRxBytesPerTick,
               "kMaxRxStepsPerTick in [kMaxRxBytesPerTick, 2 x]: a step for every byte read, and the rescans' at "
               "most as many again (each ~115 cycles on the AVR, after the iteration in the same tick)");
@@ -97,7 +97,7 @@ static_assert(kLongPressWhileRunning == LongPress::none || kLongPressWhileRunnin
               "kLongPressWhileRunning: one of LongPress's values");
 static_assert(kDriftMaxCorrection_mm_s > 0,
               "kDriftMaxCorrection_mm_s > 0: 0 leaves the drift uncorrected (its bound by the hand's speed is in "
-              "arm_control.cpp)");
+              "config/derived.h)");
 static_assert(kGripperRate_us_per_s >= 50 && kGripperRate_us_per_s <= 2 * (kGripperMax_us - kGripperMin_us),
               "kGripperRate_us_per_s: at least 50 us/s, at most the servo's whole range in 0.5 s (it cannot follow "
               "faster)");

@@ -90,30 +90,6 @@ constexpr int16_t kPositionUnitsPerCount = 16;
 constexpr Ratio kDcKp[3] = {{5527, 100000}, {8799, 100000}, {7020, 100000}};
 constexpr Ratio kDcKi_per_s[3] = {{12754, 100000}, {24367, 100000}, {25922, 100000}};
 constexpr Ratio kDcKd_s[3] = {{5894, 1000000}, {8551, 1000000}, {4686, 1000000}};
-// The running loop's two jobs alternate, each every second control tick (500 Hz): the motion
-// pass (twist, J^-1, limits, the joints' references) in one slot, the drives' loops following
-// those references in the other: the DC servos (feedforward, PID; their pots are checked every
-// tick) and the steppers' tracking and ramps. Every output changes at 500 Hz either way, and the
-// pass computed every tick took over a third of the loop's cycles (12,954 a tick while the stick
-// drove, 9,625 alternating: test_firmware_budgets). The drives read references a tick old:
-// every joint follows 1 ms later (0.8 mrad at J1's 0.8 rad/s, 0.2 mrad at J2's 0.2 rad/s, 1/25
-// of a pot count), so the hand keeps its path. 500 Hz: twice seed 1's 188 Hz that
-// removed its relay's oscillation, some 20 times the DC joints' bandwidth, and the steppers'
-// ramps move their speed in steps of 2 ms of acceleration. The gains and ramps stay per tick:
-// each loop takes the ticks since its last run. Measured in S1 and S2 (test_motion_scenarios):
-// the drives at 500 Hz follow the lines as well as every tick; every third tick did worse (S1 to
-// 5.3 mm: the worm's stick-slip grows with the period).
-constexpr uint8_t kDrivePeriod_ticks = 2;
-constexpr uint8_t kMotionSlot = 1;
-constexpr uint8_t kDriveSlot = 0;  // the DC servos (and every second time the steppers' tracking and ramps)
-// The steppers' tracking and ramps while the stick drives: every fourth tick (250 Hz), in the
-// drives' ticks that carry neither the holding effort nor the speed governor (arm_control.cpp's
-// schedule). A stepper's position loop (kStepperPositionGain_per_s = 20/s) and its ramp need
-// far less: 4 ms is 0.08 of the loop's time constant, and the ramp's speed moves in steps of
-// 4 ms of acceleration (J1: 2.4 mrad/s). At 500 Hz they took about 2,000 cycles of every
-// drives' tick; S1, S2, S3 and S7 over noise seeds are the same at 250 Hz (README).
-constexpr uint8_t kStepperPeriod_ticks = 4;
-constexpr uint8_t kStepperSlot = 2;
 // Velocity feedforward: each joint's speed at full duty without load, hundredths of a rad/s
 // (the Mabuchi 578VA's 85 rpm at its worm's output over the joint's gear, 4.5, 2.5 and 2:1;
 // measure on the arm). The PID adds speed / this as effort, and its integral the rest (load,
@@ -192,12 +168,14 @@ constexpr bool stepper_config_ok() {
   return true;
 }
 static_assert(stepper_config_ok(), "kStepperAccel_crad_s2 in (0, 2000], kHomingFast_crad_s in (0, 50], kHomingSlow_crad_s in (0, fast] and not below the slowest step, kHomingBackOff_deg in [1, 20], kHomingMaxTravel_deg >= 90, kHomingDir +-1");
-// the stepper joints' indices among J1..J6 (arm::q_min_deg, q_max_deg)
-constexpr int kStepperJointIndex[3] = {0, 4, 5};
+// The joint map: which of J1..J6 (0..5) each driver turns. Steppers 0, 1, 2 (steppers::rate(i),
+// the DRV8825s) are J1, J5, J6; DC drives 0, 1, 2 (bridges::set(d), the BTS7960s) are J2, J3, J4.
+constexpr uint8_t kStepperJoint[3] = {0, 4, 5};
+constexpr uint8_t kDcJoint[3] = {1, 2, 3};
 constexpr int16_t largest_angle_deg(int j) { return -arm::q_min_deg[j] > arm::q_max_deg[j] ? -arm::q_min_deg[j] : arm::q_max_deg[j]; }
 constexpr bool stepper_steps_ok() {
   for (int i = 0; i < 3; ++i)
-    if (kStepsPerJointTurn[i] < 200 || kStepsPerJointTurn[i] * largest_angle_deg(kStepperJointIndex[i]) / 360 >= 65536ul)
+    if (kStepsPerJointTurn[i] < 200 || kStepsPerJointTurn[i] * largest_angle_deg(kStepperJoint[i]) / 360 >= 65536ul)
       return false;
   return true;
 }
@@ -206,7 +184,7 @@ static_assert(stepper_steps_ok(),
               "2^16 steps of zero (core/joint_map.h's StepperMap)");
 constexpr bool home_switches_ok() {
   for (int i = 0; i < 3; ++i)
-    if (kHomeSwitch_deg[i] < arm::q_min_deg[kStepperJointIndex[i]] || kHomeSwitch_deg[i] > arm::q_max_deg[kStepperJointIndex[i]])
+    if (kHomeSwitch_deg[i] < arm::q_min_deg[kStepperJoint[i]] || kHomeSwitch_deg[i] > arm::q_max_deg[kStepperJoint[i]])
       return false;
   return true;
 }
@@ -266,7 +244,7 @@ constexpr double kWidestDcJointDegPerCount =
 static_assert(kArrivedTolerance_mdeg >= kDcParkBand_counts * kWidestDcJointDegPerCount * 1000 && kArrivedTolerance_mdeg <= 5000,
               "kArrivedTolerance_mdeg: at least the DC servos' parking band in the coarsest joint's degrees, at most "
               "5 deg (a move that ends further off has not arrived)");
-static_assert(kPositionUnitsPerCount >= 1, "kPositionUnitsPerCount >= 1 (its upper bound, 16 bits, is in arm_control.cpp)");
+static_assert(kPositionUnitsPerCount >= 1, "kPositionUnitsPerCount >= 1 (its upper bound, 16 bits, is in config/derived.h)");
 constexpr bool dc_gains_ok() {
   for (int d = 0; d < 3; ++d)
     if (kDcKp[d].num < 0 || kDcKp[d].den <= 0 || kDcKi_per_s[d].num < 0 || kDcKi_per_s[d].den <= 0 || kDcKd_s[d].num < 0 ||
@@ -276,7 +254,7 @@ constexpr bool dc_gains_ok() {
 }
 static_assert(dc_gains_ok(),
               "kDcKp, kDcKi_per_s, kDcKd_s: non-negative, positive denominators (their fit in the PID's formats is "
-              "checked in arm_control.cpp)");
+              "checked in config/derived.h)");
 static_assert(kRelayDeadZone_counts >= 1 && kRelayDeadZone_counts <= 20,
               "kRelayDeadZone_counts in [1, 20]: without a dead zone the relay chatters around its target");
 static_assert(kRelayDuty_permille > kDcMinDuty_permille && kRelayDuty_permille <= 1000,
@@ -313,14 +291,6 @@ static_assert(kDcInertiaAtWorm_gm2[0] > 0 && kDcInertiaAtWorm_gm2[1] > 0 && kDcI
 static_assert(kDcRotorInertiaAtWorm_gm2 > 0 && kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[0] &&
                   kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[1] && kDcRotorInertiaAtWorm_gm2 <= kDcInertiaAtWorm_gm2[2],
               "kDcRotorInertiaAtWorm_gm2 in (0, kDcInertiaAtWorm_gm2]: the rotor's inertia is part of each drive's");
-static_assert(kDrivePeriod_ticks >= 1 && kDrivePeriod_ticks <= 4 && kDriveSlot < kDrivePeriod_ticks &&
-                  kMotionSlot < kDrivePeriod_ticks && kDriveSlot != kMotionSlot,
-              "kDrivePeriod_ticks in [1, 4], kDriveSlot != kMotionSlot, both below it");
-static_assert(kStepperPeriod_ticks % kDrivePeriod_ticks == 0 && kStepperSlot < kStepperPeriod_ticks &&
-                  kStepperSlot % kDrivePeriod_ticks == kDriveSlot,
-              "kStepperPeriod_ticks a multiple of kDrivePeriod_ticks, kStepperSlot in the drives' slot");
-static_assert(kDcUnparkTime_ms >= 2 * kDrivePeriod_ticks,
-              "kDcUnparkTime_ms >= 2 kDrivePeriod_ticks: a parked servo counts a noisy reading as its whole period");
 static_assert(kDcStandingSpeed_mrad_s > 0 && kDcStandingSpeed_mrad_s <= 50, "kDcStandingSpeed_mrad_s in (0, 50]");
 static_assert(kTrackingSlowFrom_mrad > 0 && kTrackingSlowFrom_mrad < kTrackingStopAt_mrad &&
                   kTrackingStopAt_mrad < kTrackingFault_mrad,

@@ -47,7 +47,7 @@ struct BaseLoad {
 
 // Trig: kin::JacobianTrig<kin::Fixed> (c2, s2, c23, s23, c234, s234, c5, s5)
 template <class Trig>
-__attribute__((optimize("Os"))) BaseLoad base_load(const Trig& t) {
+BaseLoad base_load(const Trig& t) {
   using namespace base_inertia_detail;
   const config::LinkCentre* c = config::kLinkCentre;
   const int16_t elbow = (int16_t)(kA1 + along(kA2, t.c2));

@@ -68,10 +68,9 @@ struct HoldingEffort {
   int16_t duty_q15[3];  // J2, J3, J4: + means the drive must push the joint positive to hold it
 };
 
-// Trig: kin::JacobianTrig<kin::Fixed> (c2, s2, c23, s23, c234, s234, c5 as fx::Unit). Built for size:
-// it runs every few ticks, and unrolled it took 740 bytes of flash.
+// Trig: kin::JacobianTrig<kin::Fixed> (c2, s2, c23, s23, c234, s234, c5 as fx::Unit).
 template <class Trig>
-__attribute__((optimize("Os"))) HoldingEffort holding_effort(const Trig& t) {
+HoldingEffort holding_effort(const Trig& t) {
   const int16_t c5c234 = (t.c5 * t.c234).raw;
   HoldingEffort h;
   for (uint8_t d = 0; d < 3; ++d) {

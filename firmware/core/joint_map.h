@@ -46,9 +46,8 @@ constexpr Scale scale_for(double factor) {
 // num / den = f 2^e with f in [0.5, 1), m = round(f 2^15) = floor((n 2^16 + d) / (2 d))
 // = floor((floor(n 2^16 / d) + 1) / 2) (floors compose), the quotient's 16 bits by long
 // division: the remainder r < d doubles into r - (d - r) or r + r, never past 32 bits.
-// For num, den < 2^31 (d << 1 and 2 n stay within 32 bits). At boot and at a calibration only:
-// built for size (at -O3 its loop was unrolled, 1.4 KB).
-__attribute__((cold, optimize("Os"))) inline Scale scale_for_ratio(uint32_t num, uint32_t den) {
+// For num, den < 2^31 (d << 1 and 2 n stay within 32 bits). At boot and at a calibration only.
+inline Scale scale_for_ratio(uint32_t num, uint32_t den) {
   int8_t e = 0;
   uint32_t n = num, d = den;
   while (n >= d) {
@@ -262,9 +261,8 @@ struct PotMap {
   Scale angle_per_unit;
 
   // from the pot units (ADC counts x 16) read at the joint's two limits (a calibration),
-  // units_at_max > units_at_min, q_max > q_min. At boot and at a calibration only: built for
-  // size (with 64-bit divisions at -O3 it took 1,156 bytes of flash)
-  __attribute__((cold, optimize("Os"))) static PotMap make(fx::Angle q_min, fx::Angle q_max, int32_t units_at_min, int32_t units_at_max) {
+  // units_at_max > units_at_min, q_max > q_min. At boot and at a calibration only.
+  static PotMap make(fx::Angle q_min, fx::Angle q_max, int32_t units_at_min, int32_t units_at_max) {
     const uint32_t units = (uint32_t)(units_at_max - units_at_min), counts = (uint32_t)(q_max.raw - q_min.raw);
     return PotMap{q_min, units_at_min, scale_for_ratio(units, counts), scale_for_ratio(counts, units)};
   }

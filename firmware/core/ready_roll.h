@@ -12,7 +12,7 @@
 namespace wmra {
 namespace core {
 
-__attribute__((cold, optimize("Os"))) inline int32_t ready_roll(int32_t ready, int32_t present, int32_t turn, int32_t soft_min, int32_t soft_max, int32_t slack) {
+inline int32_t ready_roll(int32_t ready, int32_t present, int32_t turn, int32_t soft_min, int32_t soft_max, int32_t slack) {
   int32_t t = ready;
   while (present - t > turn / 2) t += turn;
   while (t - present > turn / 2) t -= turn;

@@ -35,10 +35,6 @@
 namespace wmra {
 namespace core {
 
-// Homing runs once in a while: its steps are built for size where the firmware's control loop
-// is built for speed.
-#define WMRA_WRIST_HOMING_SIZE __attribute__((cold, optimize("Os")))
-
 struct WristHomingConfig {
   int32_t turn_steps;
   int32_t range_steps;      // J6 turns within +-range_steps of zero
@@ -80,7 +76,7 @@ class WristHoming {
   }
 
   template <class Ramp>
-  WMRA_WRIST_HOMING_SIZE void update(bool closed, bool moving, uint8_t ticks, Ramp& ramp) {
+  void update(bool closed, bool moving, uint8_t ticks, Ramp& ramp) {
     const int32_t p = ramp.position_steps();
     switch (phase_) {
       case Phase::idle:
@@ -145,7 +141,7 @@ class WristHoming {
   // x steps in the approach's direction (a sign, not a 32-bit product)
   int32_t toward(int32_t x) const { return dir_ > 0 ? x : -x; }
   // the whole turn nearest steps, within the range
-  WMRA_WRIST_HOMING_SIZE int32_t nearest_turn(int32_t steps) const {
+  int32_t nearest_turn(int32_t steps) const {
     int32_t z = 0;
     while (steps - z > c_.turn_steps / 2 && z + c_.turn_steps <= c_.range_steps) z += c_.turn_steps;
     while (z - steps > c_.turn_steps / 2 && z - c_.turn_steps >= -c_.range_steps) z -= c_.turn_steps;
@@ -153,7 +149,7 @@ class WristHoming {
   }
   // the side a whole turn is approached from: +-360 deg from inside the range; 0 from the side J6
   // is on (on the cam, dir_at_zero)
-  WMRA_WRIST_HOMING_SIZE int8_t approach_dir(int32_t zero, int32_t p) const {
+  int8_t approach_dir(int32_t zero, int32_t p) const {
     if (zero != 0) return zero > 0 ? 1 : -1;
     if (p < -c_.edge_steps) return 1;
     if (p > c_.edge_steps) return -1;
@@ -165,7 +161,7 @@ class WristHoming {
   }
 
   template <class Ramp>
-  WMRA_WRIST_HOMING_SIZE void begin(bool closed, int32_t p, Ramp& ramp) {
+  void begin(bool closed, int32_t p, Ramp& ramp) {
     if (belief_ == WristBelief::contradicted) {
       fail(ramp);
       return;
@@ -194,7 +190,7 @@ class WristHoming {
     }
   }
   template <class Ramp>
-  WMRA_WRIST_HOMING_SIZE void next_leg(int32_t p, Ramp& ramp) {
+  void next_leg(int32_t p, Ramp& ramp) {
     for (; leg_ < 4; ++leg_) {
       const int32_t target = origin_ + c_.sweep_steps[leg_];
       if (target == p) continue;
@@ -209,14 +205,14 @@ class WristHoming {
   // A sweep's switch, seen at trigger_ moving in dir_: the cam's edge, the filter's delay at the
   // fast speed before, and its turn the whole turn nearest the count there
   template <class Ramp>
-  WMRA_WRIST_HOMING_SIZE void found(Ramp& ramp) {
+  void found(Ramp& ramp) {
     const int32_t zero_count = trigger_ - toward(c_.fast_lag_steps - c_.edge_steps);
     zero_ = nearest_turn(zero_count);
     approach(zero_count - toward(c_.edge_steps + c_.approach_steps), zero_count, true, ramp);
   }
   // fast to start (off the cam, on the side dir_ comes from), then slowly towards bound
   template <class Ramp>
-  WMRA_WRIST_HOMING_SIZE void approach(int32_t start, int32_t bound, bool closed, Ramp& ramp) {
+  void approach(int32_t start, int32_t bound, bool closed, Ramp& ramp) {
     start_ = start;
     bound_ = bound;
     was_closed_ = closed;
@@ -225,7 +221,7 @@ class WristHoming {
   }
   // the switch seen closed while J6 moves: where, and J6 brakes
   template <class Ramp>
-  WMRA_WRIST_HOMING_SIZE bool caught(bool closed, int32_t p, Ramp& ramp, Phase next) {
+  bool caught(bool closed, int32_t p, Ramp& ramp, Phase next) {
     if (!closed) return false;
     trigger_ = p;
     ramp.stop();
@@ -234,7 +230,7 @@ class WristHoming {
   }
   // the switch is not where the belief says: an exact count is wrong, J6 stops
   template <class Ramp>
-  WMRA_WRIST_HOMING_SIZE void give_up(Ramp& ramp) {
+  void give_up(Ramp& ramp) {
     if (belief_ == WristBelief::exact) {
       belief_ = WristBelief::contradicted;
       contradiction_ = true;
@@ -242,7 +238,7 @@ class WristHoming {
     fail(ramp);
   }
   template <class Ramp>
-  WMRA_WRIST_HOMING_SIZE void fail(Ramp& ramp) {
+  void fail(Ramp& ramp) {
     ramp.stop();
     phase_ = Phase::failed;
   }
@@ -263,7 +259,6 @@ class WristHoming {
   int32_t bound_ = 0;    // and how far it goes
 };
 
-#undef WMRA_WRIST_HOMING_SIZE
 
 }  // namespace core
 }  // namespace wmra

@@ -39,10 +39,9 @@ __attribute__((always_inline)) inline uint16_t crc16_update(uint16_t crc, uint8_
 #endif
 }
 
-// The CRC of n bytes, continuing from crc. On the AVR one copy, at -O2 whatever the caller's
-// level: built for size, the step was a call per byte (its 24 cycles came to ~60).
+// The CRC of n bytes, continuing from crc.
 #ifdef __AVR__
-__attribute__((noinline, optimize("O2")))
+__attribute__((noinline))
 #endif
 inline uint16_t crc16_update(uint16_t crc, const uint8_t* data, uint8_t n) {
   for (; n > 0; --n) crc = crc16_update(crc, *data++);

@@ -218,10 +218,8 @@ class Joystick {
     return (uint8_t)((calibrated_ ? 0 : kJoystickCalibrating) | (armed_ ? 0 : kJoystickNotArmed) | rail_flags_);
   }
 
-  // out of line and for size: it runs only until the centre is known; inlined into the
-  // caller's loop (at -O3 on the AVR) it took ~900 bytes of flash, none of the loop's time
-  // while the stick drives
-  __attribute__((noinline, cold, optimize("Os"))) void calibrate(const uint16_t raw[2], bool rail) {
+  // (runs only until the centre is known)
+  void calibrate(const uint16_t raw[2], bool rail) {
     if (rail) {
       cal_count_ = 0;
       return;

@@ -91,8 +91,7 @@ constexpr PidGainsResult pid_gains(Ratio kp, Ratio ki_per_s, Ratio kd_s, int32_t
 
 class Pid {
  public:
-  // (at start-up only: built for size)
-  __attribute__((cold, optimize("Os"))) PidStatus configure(const PidConfig& c) {
+  PidStatus configure(const PidConfig& c) {
     const PidStatus s = pid_check(c);
     if (s != PidStatus::ok) return s;
     c_ = c;
@@ -150,9 +149,9 @@ class Pid {
     return duty_for(update_effort(e, measurement, feedforward_q15, samples));
   }
   // One sample's effort (Q15, signed), before the dead-zone inverse: a caller that maps it
-  // itself (duty_moving). Built for size: on the AVR core::DcServo's rare runs alone call it (its
-  // common run is an asm kernel of its own).
-  __attribute__((optimize("Os"))) int16_t update_effort(int16_t e, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
+  // itself (duty_moving). On the AVR core::DcServo's rare runs alone call it (its common run is
+  // an asm kernel of its own).
+  int16_t update_effort(int16_t e, int16_t measurement, int16_t feedforward_q15 = 0, uint8_t samples = 1) {
     if (!configured_) return 0;
     int16_t dm = sub_saturated_i16(measurement, m_prev_);
     m_prev_ = measurement;

@@ -181,9 +181,9 @@ class StepRate {
   }
   // Go to a position (steps) and stop there exactly, at most at max_speed_steps_s (a speed
   // below the slowest one brakes to rest instead). The speed's MoveSpeed is worked out (a
-  // division) only when it is not the move's already: a caller may command every tick. Built
-  // for size (homing's few commands; the moves to a pose take a MoveSpeed made at compile time).
-  __attribute__((optimize("Os"))) void move_to(int32_t target_steps, uint32_t max_speed_steps_s) {
+  // division) only when it is not the move's already: a caller may command every tick (the moves
+  // to a pose take a MoveSpeed made at compile time).
+  void move_to(int32_t target_steps, uint32_t max_speed_steps_s) {
     const bool same_speed = has_target_ && speed_q8_of(k_, max_speed_steps_s) == want_q8_;
     move_to(target_steps, same_speed ? MoveSpeed{want_q8_, cruise_steps_} : move_speed(k_, max_speed_steps_s));
   }

@@ -113,8 +113,8 @@ void set(uint8_t joint, int16_t duty_q15) {
   }
 }
 
-// From the safety button's interrupt: unrolled at -O3 into direct register writes (latency, S5)
-__attribute__((optimize("O3"))) void all_off() {
+// From the safety button's interrupt: unrolled into direct register writes (latency, S5)
+void all_off() {
   const uint8_t s = SREG;
   cli();
   for (uint8_t j = 0; j < kCount; ++j) {

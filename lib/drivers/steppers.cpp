@@ -263,8 +263,8 @@ void enable_drivers(bool on) {
 }
 
 // From the safety button's interrupt: the drivers off first (EN high), then the step trains.
-// Unrolled at -O3 into direct register writes: the safety button's latency (S5) is this.
-__attribute__((optimize("O3"))) void kill() {
+// Unrolled into direct register writes: the safety button's latency (S5) is this.
+void kill() {
   const uint8_t s = SREG;
   cli();
   for (uint8_t i = 0; i < kCount; ++i) pins::write(kPins(i).enable, true);
@@ -332,9 +332,7 @@ void count() {
   count_from(g_ch[2], now2);
 }
 
-// -O3 whatever the file's level: it runs every second iteration, inside the 1 ms (3 x 20 kHz leaves
-// ~3,000 cycles of it beside an 8,000-cycle iteration and the step ISRs)
-__attribute__((optimize("O3"))) void service(uint8_t ticks) {
+void service(uint8_t ticks) {
   uint8_t bit = 1;
   for (uint8_t i = 0; i < kCount; ++i, bit = (uint8_t)(bit << 1)) {
     ChannelState& ch = g_ch[i];

@@ -8,8 +8,8 @@
 // in the ISR (three channels at 20 kHz are 60,000 edges a second).
 //
 // The speed ramps (lib/control/step_rate.h) run in the main loop: service() (in the firmware
-// every tick while homing or moving to a pose, every second one while the stick drives:
-// config::kDrivePeriod_ticks) counts the steps each channel made, moves each ramp's speed by
+// every tick while homing or moving to a pose, every fourth one while the stick drives:
+// firmware/app/tick_plan.h) counts the steps each channel made, moves each ramp's speed by
 // at most a dt per tick it spans and hands the ISR the new interval and the steps left before it stops (a position move stops on
 // its target in the ISR). Commands (rate(i).set_speed, move_to, stop) take effect at the next
 // service(). An edge once scheduled keeps its time; a new interval applies from the edge after.

@@ -12,6 +12,7 @@
 #include "config/modes_config.h"
 #include "core/supervisor.h"
 #include "kinematics/arm_model.h"
+#include "wmra_mega/board.h"
 
 namespace wmra {
 namespace armsim {
@@ -22,7 +23,7 @@ constexpr double kPlotStepS = 0.01;          // plot samples: 100 Hz of simulate
 constexpr size_t kMaxPlotSamples = 20000;    // fewer on runs longer than 200 s
 constexpr double kFrameStepS = 1.0 / 30;     // animation frames
 constexpr int kDerivativeHalfWidth = 2;      // +-20 ms at 100 Hz: smooths microstep quantisation
-constexpr double kCpuHz = 16e6;
+constexpr double kCpuHz = board::kCpuHz;
 
 const char* mode_name(config::Mode m) {
   switch (m) {

@@ -11,6 +11,7 @@
 #include "armsim/json.h"
 #include "armsim/report.h"
 #include "kinematics/forward_kinematics.h"
+#include "wmra_mega/board.h"
 
 namespace wmra {
 namespace armsim {
@@ -176,6 +177,9 @@ void write_summary_json(const std::string& path, const RunResult& result, const 
                (unsigned long long)(m.loop_high.count ? m.loop_high.min : 0), (unsigned long long)m.loop_high.count);
   std::fprintf(f, "  \"control_loop_own_cycles\": {\"mean\": %.1f, \"max\": %llu},\n", m.loop_own.mean(),
                (unsigned long long)m.loop_own.max);
+  std::fprintf(f, "  \"tick_awake_cycles\": {\"mean\": %.1f, \"max\": %llu, \"max_at_s\": %.4f, \"count\": %llu},\n",
+               m.tick_awake.mean(), (unsigned long long)m.tick_awake.max, m.tick_awake_max_at_s,
+               (unsigned long long)m.tick_awake.count);
   std::fprintf(f, "  \"control_period_cycles\": {\"mean\": %.1f, \"max\": %llu, \"min\": %llu},\n", m.loop_period.mean(),
                (unsigned long long)m.loop_period.max,
                (unsigned long long)(m.loop_period.count ? m.loop_period.min : 0));
@@ -206,7 +210,7 @@ void write_summary_json(const std::string& path, const RunResult& result, const 
   std::fprintf(f, "  \"resets\": %zu,\n", m.resets.size());
   std::fprintf(f, "  \"reset_log\": [");
   for (size_t i = 0; i < m.resets.size(); ++i) {
-    std::fprintf(f, "%s{\"t_s\": %.6f, \"cause\": %s}", i ? ", " : "", m.resets[i].cycle / 16e6,
+    std::fprintf(f, "%s{\"t_s\": %.6f, \"cause\": %s}", i ? ", " : "", m.resets[i].cycle / (double)board::kCpuHz,
                  json_string(m.resets[i].cause).c_str());
   }
   std::fprintf(f, "],\n");

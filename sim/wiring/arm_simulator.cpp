@@ -105,9 +105,9 @@ ArmSimulator::ArmSimulator(const SimConfig& config)
     : config_(config),
       core_(new AvrCore(config.elf)),
       plant_(config.plant),
-      step_cycles_((uint64_t)std::llround(plant::kPlantStepS * m2560::kCpuHz)) {
+      step_cycles_((uint64_t)std::llround(plant::kPlantStepS * board::kCpuHz)) {
   plant_.power_up(config.initial_q);
-  uart_cycles_x1000_ = (uint64_t)std::llround(1000.0 * m2560::kCpuHz * 10 / config.serial_baud);
+  uart_cycles_x1000_ = (uint64_t)std::llround(1000.0 * board::kCpuHz * 10 / config.serial_baud);
   if (!config.vcd_path.empty()) {
     vcd_.reset(new VcdWriter(config.vcd_path));
     if (!vcd_->ok()) throw std::runtime_error("cannot write " + config.vcd_path);
@@ -258,7 +258,7 @@ bool ArmSimulator::compare_level(const OutPin& p, const Compare& c, const m2560:
 
 void ArmSimulator::update_outputs(bool steppers, bool probe_pin) {
   const uint64_t cycle = core_->cycle();
-  const double t = (double)cycle / m2560::kCpuHz;
+  const double t = (double)cycle / board::kCpuHz;
   bool enable_changed = false;
   const m2560::TimerSnapshot timer5 = snapshot(core_->avr(), b::Timer::t5);
   for (auto& s : steppers_) {
@@ -348,7 +348,7 @@ double ArmSimulator::gripper_pulse_us() const {
   if (drive.source == m2560::PinDrive::Source::pwm) {
     static const int prescale[8] = {0, 1, 8, 64, 256, 1024, 0, 0};
     const m2560::TimerMode mode = m2560::timer_mode(t);
-    const double tick_us = prescale[t.tccrb & 7] * 1e6 / m2560::kCpuHz;
+    const double tick_us = prescale[t.tccrb & 7] * 1e6 / board::kCpuHz;
     const double period_us = (mode.wave == m2560::Wave::fast_pwm ? mode.top + 1.0 : 2.0 * mode.top) * tick_us;
     return drive.duty * period_us;
   }
@@ -356,8 +356,8 @@ double ArmSimulator::gripper_pulse_us() const {
   // hobby servo's frame is 20 ms; one missing frame and a half means the pulse has stopped)
   constexpr double kFrameTimeout_s = 0.03;
   const uint64_t last_edge = std::max(gripper_->rise_cycle, gripper_->fall_cycle);
-  if (gripper_->pulse_cycles == 0 || core_->cycle() - last_edge > (uint64_t)(kFrameTimeout_s * m2560::kCpuHz)) return 0;
-  return gripper_->pulse_cycles * 1e6 / m2560::kCpuHz;
+  if (gripper_->pulse_cycles == 0 || core_->cycle() - last_edge > (uint64_t)(kFrameTimeout_s * board::kCpuHz)) return 0;
+  return gripper_->pulse_cycles * 1e6 / board::kCpuHz;
 }
 
 // --- inputs
@@ -567,7 +567,7 @@ void ArmSimulator::plant_step(uint64_t when) {
     }
     plant_.set_bridge_duty(br->joint, br->duty[0], br->duty[1]);
   }
-  plant_.step((double)step_cycles_ / m2560::kCpuHz);
+  plant_.step((double)step_cycles_ / board::kCpuHz);
   apply_inputs();
   check_estop();
   for (auto& p : periodic_) {
@@ -628,14 +628,14 @@ void ArmSimulator::after_reset() {
 
 // --- time
 
-double ArmSimulator::time_s() const { return (double)core_->cycle() / m2560::kCpuHz; }
+double ArmSimulator::time_s() const { return (double)core_->cycle() / board::kCpuHz; }
 
 int ArmSimulator::run_until(double t_s) {
-  return core_->run_until((uint64_t)std::llround(t_s * m2560::kCpuHz));
+  return core_->run_until((uint64_t)std::llround(t_s * board::kCpuHz));
 }
 
 void ArmSimulator::every(double period_s, std::function<void(const ArmSimulator&)> f) {
-  const uint64_t period = (uint64_t)std::llround(period_s * m2560::kCpuHz);
+  const uint64_t period = (uint64_t)std::llround(period_s * board::kCpuHz);
   if (period == 0 || period % step_cycles_) throw std::invalid_argument("period must be a multiple of the plant step");
   const uint64_t now = core_->cycle();
   periodic_.push_back({period, (now / period + (now % period ? 1 : 0)) * period, std::move(f)});
@@ -653,9 +653,16 @@ Measurements ArmSimulator::measurements() const {
   m.sim_time_s = time_s();
   m.loop_high = loop_high_;
   m.loop_own = loop_own_;
+  {
+    const AvrCore::AwakeStats& a = core_->awake();
+    m.tick_awake.count = a.count;
+    m.tick_awake.sum = a.sum;
+    m.tick_awake.max = a.max;
+    m.tick_awake_max_at_s = (double)a.max_ended_at / board::kCpuHz;
+  }
   m.loop_period = loop_period_;
   if (loop_period_.count && last_rise_ > first_rise_) {
-    m.control_rate_hz = (double)loop_period_.count * m2560::kCpuHz / (double)(last_rise_ - first_rise_);
+    m.control_rate_hz = (double)loop_period_.count * board::kCpuHz / (double)(last_rise_ - first_rise_);
   }
   m.cpu_load = m.cycles ? 1.0 - (double)core_->sleep_cycles() / (double)m.cycles : 0.0;
   for (int slot = 0; slot < 3; ++slot) {
@@ -679,7 +686,7 @@ Measurements ArmSimulator::measurements() const {
   if (core_->state() == cpu_Crashed) m.sim_faults.push_back("the core crashed (simavr state crashed)");
   if (core_->halted_at()) {
     m.sim_faults.push_back("the firmware halted (sleep with interrupts off) at " +
-                           std::to_string((double)core_->halted_at() / m2560::kCpuHz) + " s");
+                           std::to_string((double)core_->halted_at() / board::kCpuHz) + " s");
   }
   if (core_->min_stack_pointer() < m2560::kRamStart + core_->static_ram_bytes()) {
     m.sim_faults.push_back("stack overflow into static data");

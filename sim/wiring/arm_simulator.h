@@ -101,6 +101,10 @@ struct Measurements {
   CycleStats loop_period;  // D49 rising to rising, cycles
   double control_rate_hz = 0;
   double cpu_load = 0;     // 1 - cycles asleep / all cycles
+  // awake from a wake-up to the next sleep: a tick's whole work (the iteration, the serial link,
+  // the interrupts that land in it), cycles; start-ups not counted
+  CycleStats tick_awake;
+  double tick_awake_max_at_s = 0;  // when the longest ended
   std::array<StepperCounts, 3> steps;  // J1, J5, J6
   uint32_t ram_static_bytes = 0;
   uint32_t stack_bytes = 0;

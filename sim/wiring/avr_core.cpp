@@ -46,7 +46,7 @@ AvrCore::AvrCore(const std::string& elf_path) {
     throw std::runtime_error("cannot read the firmware image " + elf_path);
   }
   std::strcpy(firmware.mmcu, "atmega2560");
-  firmware.frequency = m2560::kCpuHz;
+  firmware.frequency = board::kCpuHz;
   avr_global_logger_set(&AvrCore::logger);
   avr_ = avr_make_mcu_by_name(firmware.mmcu);
   if (!avr_) throw std::runtime_error("simavr has no atmega2560 core");
@@ -89,7 +89,20 @@ AvrCore::~AvrCore() {
 
 void AvrCore::sleep_hook(avr_t* avr, avr_cycle_count_t how_long) {
   // simavr then adds 1 + how_long cycles
-  if (AvrCore* c = core_of(avr)) c->sleep_cycles_ += 1 + how_long;
+  AvrCore* c = core_of(avr);
+  if (!c) return;
+  c->sleep_cycles_ += 1 + how_long;
+  if (c->slept_since_reset_) {
+    const uint64_t awake = avr->cycle - c->woke_at_;
+    ++c->awake_.count;
+    c->awake_.sum += awake;
+    if (awake > c->awake_.max) {
+      c->awake_.max = awake;
+      c->awake_.max_ended_at = avr->cycle;
+    }
+  }
+  c->slept_since_reset_ = true;
+  c->woke_at_ = avr->cycle + 1 + how_long;
 }
 
 void AvrCore::reset_hook(avr_t* avr) {
@@ -97,6 +110,7 @@ void AvrCore::reset_hook(avr_t* avr) {
   if (!c) return;
   if (c->core_reset_) c->core_reset_(avr);
   c->reset_seen_ = true;
+  c->slept_since_reset_ = false;
 }
 
 void AvrCore::console_write(avr_t*, avr_io_addr_t, uint8_t v, void* param) {

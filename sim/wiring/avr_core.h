@@ -61,6 +61,14 @@ class AvrCore {
 
   // --- measurements
   uint64_t sleep_cycles() const { return sleep_cycles_; }
+  // Each stretch awake between two sleeps (from the wake-up to the next sleep instruction): in
+  // the firmware one tick's work, the interrupts that land in it included. Stretches from a
+  // reset to the first sleep (the start-up) are not counted.
+  struct AwakeStats {
+    uint64_t count = 0, sum = 0, max = 0;
+    uint64_t max_ended_at = 0;  // the cycle the longest stretch ended
+  };
+  const AwakeStats& awake() const { return awake_; }
   const IsrStats& isr(int vector) const { return isr_[vector]; }
   uint64_t isr_cycles() const { return isr_cycles_; }  // all handlers' cycles, counted at each RETI
   uint16_t min_stack_pointer() const { return min_sp_; }
@@ -102,6 +110,9 @@ class AvrCore {
   void (*core_reset_)(avr_t*) = nullptr;
   avr_run_t run_callback_ = nullptr;
   uint64_t sleep_cycles_ = 0;
+  AwakeStats awake_;
+  uint64_t woke_at_ = 0;
+  bool slept_since_reset_ = false;
   uint64_t isr_cycles_ = 0;
   IsrStats isr_[64];
   struct Active {

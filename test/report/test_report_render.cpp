@@ -9,6 +9,7 @@
 
 #include "armsim/report.h"
 #include "synthetic_run.h"
+#include "wmra_mega/board.h"
 
 using namespace wmra;
 using test::read_text;
@@ -80,7 +81,7 @@ TEST(ReportRender, EveryKindOfEventRenders) {
       4, 100, test::waving, [](double t) { return (int)t % 5; },
       [](double t) { return t < 0.5 ? 1 : t < 1 ? 2 : t < 3 ? 4 : 6; });
   run.faults = {"j3_rail", "tracking"};
-  run.measurements.resets.push_back({(uint64_t)(2.5 * 16e6), "watchdog"});
+  run.measurements.resets.push_back({(uint64_t)(2.5 * (double)board::kCpuHz), "watchdog"});
   run.measurements.estop.push_back({1.5, 1.50004});
   run.measurements.estop.push_back({3.8, -1});
   run.measurements.sim_faults.push_back("core crashed at 3.9 s");

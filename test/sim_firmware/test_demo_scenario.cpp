@@ -18,6 +18,7 @@
 #include "config/modes_config.h"
 #include "core/supervisor.h"
 #include "plant/arm_plant_config.h"
+#include "wmra_mega/board.h"
 
 namespace {
 
@@ -33,7 +34,7 @@ const std::string kOut = std::string(DEMO_OUT) + "/demo";
 // second is about 150 mm, 0.8 rad)
 constexpr double kMoved_mm = 20, kTurned_rad = 0.2;
 // one tick of the 1 kHz loop at 16 MHz: an iteration's cycles at most
-constexpr uint64_t kTick_cycles = 16000000 / config::kLoopHz;
+constexpr uint64_t kTick_cycles = board::kCpuHz / config::kLoopHz;
 // the firmware read a full stick (shaped, in [-1000, 1000])
 constexpr int kFullStick_permille = 900;
 // Timer1 counts at 2 MHz: the firmware's pulse widths are whole half-microseconds

@@ -19,6 +19,7 @@
 #include "kinematics/arm_model.h"
 #include "plant/arm_plant_config.h"
 #include "wiring/arm_simulator.h"
+#include "wmra_mega/board.h"
 
 namespace {
 
@@ -245,7 +246,7 @@ TEST(FirmwareBudgets, ControlIterationWhileTheStickDrives) {
 // scenarios/moves-to-a-pose.txt: start-up (the move to the ready pose), then eight times the
 // hand driven away in XY and a goto to the ready pose, 3.001 s apart: with no tick missed
 // (checked) each move starts on the next phase of the schedule's eight.
-constexpr uint64_t kTick_cycles = 16000000 / config::kLoopHz;
+constexpr uint64_t kTick_cycles = board::kCpuHz / config::kLoopHz;
 // How far a DC joint may stand from a pose it arrived at: the arrival tolerance on its pot's
 // reading (kArrivedTolerance_mdeg) and two ADC counts of the pot's span for the reading's
 // quantisation and noise (the plant's pots: 0.3 LSB rms).

@@ -20,6 +20,7 @@
 #include "kinematics/arm_model.h"
 #include "plant/arm_plant_config.h"
 #include "wiring/timer_decode.h"
+#include "wmra_mega/board.h"
 
 namespace {
 
@@ -233,7 +234,7 @@ TEST(FirmwareSafety, S10HangEndsInWatchdogResetReported) {
   const sim::Measurements m = rig.sim.measurements();
   ASSERT_EQ(m.resets.size(), 1u);
   EXPECT_EQ(m.resets[0].cause, "watchdog");
-  const double reset_s = m.resets[0].cycle / 16e6;
+  const double reset_s = m.resets[0].cycle / (double)board::kCpuHz;
   std::printf("hang command sent at %.4f s: outputs off %.2f ms after it, the reset %.2f ms after it\n", t_hang_s,
               (off_s - t_hang_s) * 1e3, (reset_s - t_hang_s) * 1e3);
   // the command's 8 bytes on the line (0.7 ms), the iteration before it is read (1 ms), and the
@@ -939,7 +940,7 @@ TEST(FirmwareRegisters, TimersAdcUartAndInterruptsAsTheDatasheetWants) {
   const auto clock_hz = [&](board::Timer t) {
     const int cs = d[m2560::timer_registers(t).tccrb] & 7;
     const int n = t == board::Timer::t2 ? hw::kPrescalerTimer2[cs] : hw::kPrescaler[cs];
-    return n > 0 ? 16e6 / n : 0.0;
+    return n > 0 ? (double)board::kCpuHz / n : 0.0;
   };
   // the bridges: fast PWM at 20..25 kHz (the BTS7960's range) on every timer they use
   for (board::Timer t : {board::Timer::t0, board::Timer::t2, board::Timer::t3, board::Timer::t4}) {
@@ -971,14 +972,14 @@ TEST(FirmwareRegisters, TimersAdcUartAndInterruptsAsTheDatasheetWants) {
   // analog pins' digital buffers off
   EXPECT_EQ(d[hw::kAdmux] >> 6, 1);
   EXPECT_EQ(d[hw::kAdcsrb] & 0x08, 0);
-  const double adc_hz = 16e6 / (1 << std::max(1, d[hw::kAdcsra] & 7));
+  const double adc_hz = (double)board::kCpuHz / (1 << std::max(1, d[hw::kAdcsra] & 7));
   EXPECT_GE(adc_hz, 50e3);
   EXPECT_LE(adc_hz, 200e3);
   for (uint8_t ch : {board::kAdcJoystickX, board::kAdcJoystickY, board::kAdcPotJ2, board::kAdcPotJ3, board::kAdcPotJ4})
     EXPECT_TRUE(d[hw::kDidr0] >> ch & 1) << "DIDR0 ADC" << (int)ch << "D";
   // UART0: 115200 within 2.5 % (U2X: 16 MHz / 8 (UBRR + 1)), 8N1
   const bool u2x = d[hw::kUcsr0a] & 0x02;
-  const double baud = 16e6 / ((u2x ? 8 : 16) * (r16(hw::kUbrr0) + 1.0));
+  const double baud = (double)board::kCpuHz / ((u2x ? 8 : 16) * (r16(hw::kUbrr0) + 1.0));
   EXPECT_NEAR(baud / board::kSerialBaud, 1.0, 0.025) << baud << " baud";
   EXPECT_EQ(d[hw::kUcsr0c], 0x06) << "8N1: UCSZ01:0 = 11, no parity, one stop bit";
   // switches and buttons: INT0..4 on any edge (ISCn1:0 = 01), PCINT0..6 (port B, pull-ups on)

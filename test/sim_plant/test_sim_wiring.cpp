@@ -241,7 +241,7 @@ TEST(SimWiring, SerialEchoWatchdogResetAndInputsAfterIt) {
   const sim::Measurements m = sim.measurements();
   ASSERT_EQ(m.resets.size(), 1u);
   EXPECT_EQ(m.resets[0].cause, "watchdog");
-  EXPECT_NEAR(m.resets[0].cycle / 16e6, 0.05 + 0.016, 0.01);  // the 'W' arrives ~50 ms, 15 ms (+-10 %) later
+  EXPECT_NEAR(m.resets[0].cycle / (double)board::kCpuHz, 0.05 + 0.016, 0.01);  // the 'W' arrives ~50 ms, 15 ms (+-10 %) later
   EXPECT_EQ(m.uart_rx_bytes, 6u);
   EXPECT_EQ(m.uart_rx_dropped, 0u);
   // the plant kept its time through the reset

@@ -1,0 +1,93 @@
+// The stepper joints J1, J5, J6: ramps tracking references, J1's stop (stepper_drives.h).
+#include "app/stepper_drives.h"
+
+#include <util/atomic.h>
+
+#include "app/arm.h"
+#include "app/flash_config.h"
+#include "config/derived.h"
+#include "core/base_inertia.h"
+#include "drivers/inputs.h"
+#include "drivers/steppers.h"
+
+namespace wmra {
+namespace app {
+namespace stepper_drives {
+
+namespace {
+
+using namespace config;
+
+const control::StepRateConstants kRampConstantsInFlash[3] PROGMEM = {kRampConstants[0], kRampConstants[1], kRampConstants[2]};
+fx::Real g_j1_stop_speed{0x7FFFFFFF};  // J1's speed from which the hand stops within kStopTravel_mm
+
+// With interrupts off: the stop hook (the safety button's interrupt) reads the interval.
+void set_j1_stop(const control::StopConstants& k) {
+  ATOMIC_BLOCK(ATOMIC_RESTORESTATE) { steppers::rate(0).configure_stop(k); }
+}
+
+// One stepper's ramp follows its joint's reference. A template per stepper: with the stepper a
+// constant, its map's scales are constants and their shifts fixed (a shift by a run-time count
+// is a loop).
+template <uint8_t kStepper>
+void track_one() {
+  constexpr uint8_t j = kStepperJoint[kStepper];
+  steppers::Rate& rate = steppers::rate(kStepper);
+  const int32_t error = kStepperMap[kStepper].steps(g_arm.q.q.q[j]) - rate.position_steps();
+  rate.set_speed(core::tracking_speed_steps_s(kTracking[kStepper], kStepperMap[kStepper].speed_steps_s(g_arm.q.qd_rad_s[j]), error));
+}
+
+}  // namespace
+
+void configure() {
+  for (uint8_t i = 0; i < 3; ++i) {
+    steppers::rate(i).configure(from_flash(kRampConstantsInFlash[i]));
+    steppers::rate(i).configure_stop(kStopConstants[i]);
+  }
+}
+
+void track() {
+  track_one<0>();
+  track_one<1>();
+  track_one<2>();
+}
+
+void references_from_counts() {
+  for (uint8_t i = 0; i < 3; ++i) g_arm.q.set(kStepperJoint[i], angle(i));
+}
+
+fx::Angle angle(uint8_t i) { return angle_of(i, steppers::rate(i).position_steps()); }
+int32_t steps_of(uint8_t i, fx::Angle a) { return kStepperMap[i].steps(a); }
+fx::Angle angle_of(uint8_t i, int32_t steps) { return kStepperMap[i].angle(steps); }
+
+void use_largest_j1_stop() { set_j1_stop(kStopConstants[0]); }
+
+// The deceleration above the start/stop rate stays the largest inertia's: with the speed bound
+// J1 runs faster than the start/stop rate only within 0.13 m of the base axis (the two speeds'
+// ratio squared is 2 kStopTravel_mm N_r / (3 gear r)), and a division for it costs ~650 cycles.
+void update_j1_stop(const kin::JacobianTrig<kin::Fixed>& trig) {
+  const core::BaseLoad load = core::base_load(trig);
+  const uint16_t inertia_gm2 = (uint16_t)(load.inertia_gm2 + kJ1RotorAtJoint_gm2);
+  const uint16_t interval = fx::isqrt32((uint32_t)inertia_gm2 * kJ1StartStopInterval2_per_gm2_q8 >> 8);
+  set_j1_stop(control::StopConstants{kStopConstants[0].dv_q8_per_tick, interval});
+  const uint16_t reach_mm = load.hand_reach_mm > 50 ? load.hand_reach_mm : 50;
+  uint32_t speed2_q4 = kJ1StopSpeed2_q4 / fx::mul_uu(inertia_gm2, reach_mm);
+  if (speed2_q4 > (1ul << 27)) speed2_q4 = 1ul << 27;
+  const uint16_t speed_mrad_s = fx::isqrt32(speed2_q4 << 4);
+  g_j1_stop_speed = fx::Real{(int32_t)fx::mul_uu(speed_mrad_s, 8388)};  // Q23 rad/s: 8,388.6 a mrad/s
+}
+
+// (the DC joints' speeds are the governor's, set just before or at its last run)
+void limit_speeds() {
+  core::DriveSpeeds& drives = g_arm.drives;
+  for (uint8_t i = 0; i < 3; ++i) {
+    const uint8_t j = kStepperJoint[i];
+    drives.positive_rad_s[j] = drives.negative_rad_s[j] = kMotionLimits.joint[j].speed_rad_s;
+  }
+  if (g_j1_stop_speed.raw < kMotionLimits.joint[0].speed_rad_s.raw) drives.positive_rad_s[0] = drives.negative_rad_s[0] = g_j1_stop_speed;
+  core::stop_towards_switches(drives, inputs::closed_switches() & kSwitchesArmed);
+}
+
+}  // namespace stepper_drives
+}  // namespace app
+}  // namespace wmra
