@@ -4,8 +4,8 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BUILD="${WMRA_BUILD_DIR:-$ROOT/build/host}"
 
-# Debian packages the project needs (SPEC section 2; chromium for the report checks, python3
-# for the figures of scripts/bench and scripts/demo)
+# Debian packages the project needs (the toolchain, simavr, Eigen and GoogleTest; chromium for the
+# report checks, python3 for the figures of scripts/bench, scripts/demo and scripts/performance-report)
 PACKAGES=(cmake make g++ pkg-config gcc-avr binutils-avr avr-libc avrdude simavr libsimavr-dev libelf-dev
           libeigen3-dev libgtest-dev chromium python3)
 

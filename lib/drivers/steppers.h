@@ -32,7 +32,7 @@ constexpr uint8_t kCount = 3;  // J1, J5, J6
 void start();  // pins low, drivers disabled, timer running, no steps
 // DRV8825 EN (active low) of all three. On: the ramps halted (at rest) and service() re-armed.
 void enable_drivers(bool on);
-// The stop (SPEC 6), from any context, also an ISR; the drivers stay enabled and hold. A train
+// The stop, from any context, also an ISR; the drivers stay enabled and hold. A train
 // at or below its ramp's start/stop rate (StepRate::configure_stop) ends at once; a faster one
 // runs on for at most a service period and then falls at the stop's deceleration to that rate
 // and ends. Until resume() service() only stops: each ramp's commands give way to its stop, and

@@ -1,8 +1,9 @@
-// The seed-2 wheelchair arm: Craig's modified DH (Table 3.3(b) of the thesis), joint limits
-// (Table 3.7) and the singular factors of its Jacobian.
+// The wheelchair arm of R. A. Torres's thesis (2020; seed 2): Craig's modified DH (Table 3.3(b) of
+// the thesis), joint limits (Table 3.7) and the singular factors of its Jacobian.
 //
 // Joint variable convention: q5 = 0 is the arm stretched; the DH angle of joint 5 is
-// q5 - pi/2 (seed2-digest, red flag 5). At q = 0 the frame-6 origin is at (1.077, 0, 0.187) m.
+// q5 - pi/2 (as the thesis's Eq. 4.5 and all after it use its theta'5; its Eq. 3.1 says the
+// opposite). At q = 0 the frame-6 origin is at (1.077, 0, 0.187) m.
 // Numbers are exact ratios (ratio.h) so that the fixed-point constants are the same on the
 // AVR and the host; the *_m and *_rad doubles are for host code.
 #pragma once

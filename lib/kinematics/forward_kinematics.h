@@ -134,7 +134,7 @@ Pose<N> forward_kinematics(const Trig& t) {
   Pose<N> pose;
   pose.p_m = hand_position<N>(t);
 
-  // columns n, o, a of 0R6 (seed2-digest 4.1), sharing the wrist terms
+  // columns n, o, a of 0R6 (the thesis's Eqs. III.4-III.8), sharing the wrist terms
   const auto c234s5 = t.c234 * t.s5;
   const auto s234s5 = t.s234 * t.s5;
   const auto n_in = c234s5 * t.c6 - t.s234 * t.s6;  // component in the arm's vertical plane

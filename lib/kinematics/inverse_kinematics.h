@@ -2,7 +2,7 @@
 // that lies within the joint limits (Appendix III of the thesis, with its two errors fixed:
 // p_z minus d1 in the planar step, and theta6 = atan2(s6, c6), not the printed cotangent).
 //
-// Steps (seed2-digest 4.2). The joint-5 origin is p5 = p - d6 z6, with z6 the third column of R.
+// Steps (the thesis's Eqs. III.1-III.27, corrected as above). The joint-5 origin is p5 = p - d6 z6, with z6 the third column of R.
 //   q1    = atan2(p5y, p5x) or that + pi                         (2 branches)
 //   s5    = s1 r13 - c1 r23,  c5 = +-sqrt((c1 r13 + s1 r23)^2 + r33^2)   (2 branches)
 //   q6    = atan2(sign(c5) (s1 r12 - c1 r22), sign(c5) (c1 r21 - s1 r11))

@@ -1,4 +1,4 @@
-// report.html, the page armsim writes next to trajectory.csv and summary.json (SPEC 3 and 7):
+// report.html, the page armsim writes next to trajectory.csv and summary.json:
 // one self-contained file (inline CSS and JS, no network) with the arm animated in 3D and its
 // end-effector trail, plots of joint angles, joint and hand velocities, mode, state and faults
 // over time, and the run's measurements.
@@ -25,7 +25,7 @@ struct Frame {
   std::array<double, 9> R;  // rotation base <- frame, row-major
 };
 
-// Frames 0..6 of Craig's modified DH chain (SPEC 4) at the joint angles q (joint 5's DH
+// Frames 0..6 of Craig's modified DH chain at the joint angles q (joint 5's DH
 // angle is q5 - pi/2); frame 6 is the pose forward kinematics gives.
 std::array<Frame, 7> arm_frames(const std::array<double, 6>& q);
 

@@ -1,4 +1,4 @@
-// Running a scenario against a firmware image, and the files armsim writes (SPEC section 7):
+// Running a scenario against a firmware image, and the files armsim writes:
 //   trajectory.csv  t,q1..q6,x,y,z,r11..r33,mode,state  (true plant angles, pose of frame 6)
 //   summary.json    sim_time_s, control_loop_cycles, control_rate_hz, cpu_load, steps,
 //                   ram_high_water_bytes, faults, resets, telemetry, and more

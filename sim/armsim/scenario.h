@@ -1,4 +1,4 @@
-// The scenario format of SPEC section 7: one event per line, '#' comments, times in seconds of
+// The scenario format: one event per line, '#' comments, times in seconds of
 // simulated time.
 //
 //   init Q1 Q2 Q3 Q4 Q5 Q6     optional, the first line: true joint angles at power-up (rad)

@@ -68,7 +68,7 @@ struct StepperCounts {
   int64_t timing_violations = 0;
 };
 
-// A stepper's train after the safety button's press: SPEC 6's stop ends it at once, or (above
+// A stepper's train after the safety button's press: the stop ends it at once, or (above
 // its start/stop rate) slows it down to an end, the driver enabled.
 struct TrainAfterStop {
   int64_t steps = 0;          // microsteps taken since the press

@@ -1,4 +1,4 @@
-// armkin: the arm's kinematics from the command line (SPEC section 7).
+// armkin: the arm's kinematics from the command line.
 //
 //   armkin [--fixed] fk Q1..Q6
 //   armkin [--fixed] jinv Q1..Q6 VX VY VZ WX WY WZ

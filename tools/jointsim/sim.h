@@ -120,7 +120,7 @@ struct DcOptions {
   int32_t park_counts = 0;
 };
 
-// The controllers run at the firmware's control-loop rate (SPEC 1).
+// The controllers run at the firmware's control-loop rate.
 constexpr double kDcDefaultRateHz = 1000;
 constexpr int kPositionUnitsPerCount = 16;  // the PID's position units per ADC count
 
