@@ -197,7 +197,7 @@ bool running_tick(uint16_t jobs, uint8_t ticks, Requests& rq, const control::Joy
   // drives (the steppers, carrying the arm, are never cut at speed)
   if (g_moving && (!stick_neutral || !stick_valid || rq.velocity_fresh)) joint_moves::brake();
   if (g_moving) {
-    joint_moves::tick(jobs & plan::kMoveSpeedCap);
+    joint_moves::tick(jobs & plan::kMoveSpeedCap, jobs & plan::kStepperRamps);
     if (joint_moves::arrived() || joint_moves::braked_to_rest()) start_running();
     return false;
   }
@@ -320,7 +320,7 @@ void iterate(Requests& rq, uint8_t ticks) {
       homing::tick(switches, ticks);
       break;
     case core::ArmState::to_ready:
-      joint_moves::tick(jobs & plan::kMoveSpeedCap);
+      joint_moves::tick(jobs & plan::kMoveSpeedCap, jobs & plan::kStepperRamps);
       break;
     case core::ArmState::running:
       stick_drives = running_tick(jobs, ticks, rq, stick, stick_valid, stick_neutral, long_press);
@@ -342,7 +342,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   // which run the ramps every tick). Nothing else reads the counts while the stick drives; the
   // readers outside it (the report, the drives off, a move or a brake begun) count first.
   g_ramp_elapsed = control::add_saturated_u8(g_ramp_elapsed, ticks);
-  const bool ramps_every_tick = state != core::ArmState::running || g_moving || motion::stream_halted();
+  const bool ramps_every_tick = (state != core::ArmState::running && state != core::ArmState::to_ready) || motion::stream_halted();
   if ((jobs & plan::kStepperRamps) || ramps_every_tick) {
     steppers::service(g_ramp_elapsed);
     g_ramp_elapsed = 0;
@@ -351,7 +351,7 @@ void iterate(Requests& rq, uint8_t ticks) {
   }
   g_wrist_elapsed = control::add_saturated_u8(g_wrist_elapsed, ticks);
   if (jobs & plan::kWristWatch) {
-    homing::watch_wrist(g_wrist_elapsed);
+    homing::watch_wrist(g_wrist_elapsed, state == core::ArmState::to_ready || g_moving);
     g_wrist_elapsed = 0;
   }
 

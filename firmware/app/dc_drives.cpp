@@ -26,6 +26,7 @@ struct DcJoint {
   int16_t holding_q15;         // the holding effort's duty at the reference pose (core::HoldingEffort)
   int16_t holding_effort_q15;  // the same as the servo's effort (through the dead-zone inverse)
   int16_t still_units;         // where it came to rest after a stop (mark_rest)
+  uint8_t still_wait;          // the pot read at a rail: iterations until its rest is taken afresh
   int16_t standstill_units;    // kStandstillMove_mdeg in pot units (configure_pot)
   fx::Real qd_prev;            // the reference's speed of the last servo run (its acceleration)
   core::PotMap pot;
@@ -204,15 +205,33 @@ void update_governor() {
 }
 
 void mark_rest() {
-  for (uint8_t d = 0; d < 3; ++d) g_dc[d].still_units = g_dc[d].units;
+  for (uint8_t d = 0; d < 3; ++d) {
+    g_dc[d].still_units = g_dc[d].units;
+    g_dc[d].still_wait = 0;
+  }
 }
 
+// A pot at a rail (open, shorted: its own fault) tells nothing of where its joint is, and its
+// reading's return from the rail is no move: the joint's rest is taken afresh once the reading
+// has been off the rail for kStandstillSettle_ms (the pot's input filter settles within it).
 bool moved_from_rest() {
+  static_assert(kStandstillSettle_ms < 256, "the settling count fits a byte");
+  constexpr int16_t kRailLow = kRailMargin_counts * kPositionUnitsPerCount, kRailHigh = (1023 - kRailMargin_counts) * kPositionUnitsPerCount;
+  bool moved = false;
   for (uint8_t d = 0; d < 3; ++d) {
-    const int16_t moved = (int16_t)(g_dc[d].units - g_dc[d].still_units);
-    if (moved > g_dc[d].standstill_units || moved < -g_dc[d].standstill_units) return true;
+    DcJoint& dc = g_dc[d];
+    if (dc.units <= kRailLow || dc.units >= kRailHigh) {
+      dc.still_wait = (uint8_t)kStandstillSettle_ms;
+      continue;
+    }
+    if (dc.still_wait != 0) {
+      if (--dc.still_wait == 0) dc.still_units = dc.units;
+      continue;
+    }
+    const int16_t delta = (int16_t)(dc.units - dc.still_units);
+    if (delta > dc.standstill_units || delta < -dc.standstill_units) moved = true;
   }
-  return false;
+  return moved;
 }
 
 int16_t units(uint8_t d) { return g_dc[d].units; }

@@ -76,7 +76,7 @@ void tick(uint16_t switches, uint8_t ticks) {
 // count is wrong (position_lost); J6's count is then taken to be within half a turn. At J6's
 // speed limit the switch's filter shows its cam closed for over 25 ms, so once a plan cycle
 // (8 ms) is often enough.
-void watch_wrist(uint8_t ticks) {
+void watch_wrist(uint8_t ticks, bool in_move) {
   constexpr int32_t kTurn = (int32_t)kStepsPerJointTurn[2];
   const int32_t position = steppers::rate(2).position_steps();
   if (g_arm.homed && inputs::j6_zero_closed()) {
@@ -89,7 +89,7 @@ void watch_wrist(uint8_t ticks) {
       g_wrist.set_belief(core::WristBelief::within_half_turn);
     }
   }
-  if (g_wrist_rest.update(position, g_arm.homed, ticks)) wrist_angle::record(stepper_drives::angle_of(2, position));
+  if (g_wrist_rest.update(position, g_arm.homed && !in_move, ticks)) wrist_angle::record(stepper_drives::angle_of(2, position));
 }
 
 // The moves and the stick keep the joints inside their soft limits, short of the switches: a

@@ -18,8 +18,9 @@ void set_j6_recorded(const fx::Angle* j6_at_rest);
 void restart();
 // a homing tick: the sequences on the switches (inputs.h's bits); g_arm.homed once all are done
 void tick(uint16_t switches, uint8_t ticks);
-// J6's zero switch and rest, over the ticks since the last watch
-void watch_wrist(uint8_t ticks);
+// J6's zero switch and rest, over the ticks since the last watch; in_move: a move to a pose
+// runs (its line may creep J6 slower than the rest band tells from rest: nothing is recorded)
+void watch_wrist(uint8_t ticks, bool in_move);
 // an armed limit switch closed (inputs.h's bits)
 void on_switch_closed(uint16_t closed);
 

@@ -81,7 +81,7 @@ void begin(const int32_t* angles) {
 // neither the holding update nor the governor), the references along the line, the steppers
 // tracking them. Arrived: the references on the target, every stepper at rest on it and every
 // DC joint's pot within the tolerance of it (the pots' angles, a conversion each, only then).
-void tick(bool cap_tick) {
+void tick(bool cap_tick, bool ramp_tick) {
   core::JointReferences& r = g_arm.q;
   if (!g_move.prepared()) {
     if (g_move.prepare(kMoveLimits)) g_move.set_speed_cap(kMoveLimits, g_arm.drives, g_arm.speed_scale, dc_drives::tracking_factor());
@@ -100,7 +100,7 @@ void tick(bool cap_tick) {
       r.advance_ticks(1);
     }
   }
-  if (!g_line_done) stepper_drives::track();
+  if (!g_line_done && ramp_tick) stepper_drives::track();
   bool at_target = g_line_done;
   for (uint8_t i = 0; at_target && i < 3; ++i) {
     if (steppers::rate(i).position_steps() != target_steps(i) || steppers::running(i)) at_target = false;

@@ -17,8 +17,9 @@ void plan_ready_pose();
 void begin_ready();
 // a move from the references to `angles` (fx::Angle raw, six)
 void begin(const int32_t* angles);
-// one tick of the move; cap_tick: the tick plan's kMoveSpeedCap
-void tick(bool cap_tick);
+// one tick of the move; cap_tick: the tick plan's kMoveSpeedCap; ramp_tick: its kStepperRamps
+// (the steppers track the line there, as they do the stick's references)
+void tick(bool cap_tick, bool ramp_tick);
 // every stepper at rest on its target and every DC joint's pot within kArrivedTolerance_mdeg
 bool arrived();
 void brake();

@@ -50,7 +50,7 @@ constexpr int16_t kSwitchDelay_ms = 94;
 
 // J6's turn (SPEC 5, firmware/core/wrist_homing.h). Its angle at rest is recorded in EEPROM once
 // it has stayed within kJ6RestBand_mdeg (its tracking may dither a step or two) for
-// kJ6RestBeforeRecord_ms, at least kJ6RecordChange_mdeg from the angle last recorded, and homing
+// kJ6RestBeforeRecord_ms outside a move to a pose (whose line may creep J6 slower than that), at least kJ6RecordChange_mdeg from the angle last recorded, and homing
 // goes to the switch of the turn nearest it: at most half a turn and the cam away. The recorded angle must be where the switch says within kJ6AngleTolerance_mdeg, or
 // the homing stops J6 (docs/arm-guide.md: a wrist turned by hand while switched off).
 constexpr int16_t kJ6RestBeforeRecord_ms = 1000;

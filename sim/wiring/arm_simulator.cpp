@@ -647,6 +647,8 @@ void ArmSimulator::every(double period_s, std::function<void(const ArmSimulator&
 
 // --- measurements
 
+void ArmSimulator::reset_tick_awake() { core_->reset_awake(); }
+
 Measurements ArmSimulator::measurements() const {
   Measurements m;
   m.cycles = core_->cycle();

@@ -159,6 +159,8 @@ class ArmSimulator {
   bool drivers_enabled() const;  // every DRV8825 enabled (holding its motor)
   double gripper_pulse_us() const;  // the servo pulse on D13 (Timer1 OC1C), 0 when off
   Measurements measurements() const;
+  // tick_awake counts from now on (a test's window)
+  void reset_tick_awake();
 
  private:
   struct OutPin;

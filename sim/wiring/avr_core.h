@@ -69,6 +69,7 @@ class AvrCore {
     uint64_t max_ended_at = 0;  // the cycle the longest stretch ended
   };
   const AwakeStats& awake() const { return awake_; }
+  void reset_awake() { awake_ = AwakeStats{}; }
   const IsrStats& isr(int vector) const { return isr_[vector]; }
   uint64_t isr_cycles() const { return isr_cycles_; }  // all handlers' cycles, counted at each RETI
   uint16_t min_stack_pointer() const { return min_sp_; }

@@ -14,6 +14,7 @@
 #include "config/control_config.h"
 #include "config/joints_config.h"
 #include "config/modes_config.h"
+#include "config/motion_config.h"
 #include "core/supervisor.h"
 #include "firmware_rig.h"
 #include "kinematics/arm_model.h"
@@ -366,6 +367,109 @@ TEST(FirmwareBudgets, StateFramesAt50HzWhileRunning) {
   EXPECT_GE(rate_hz, 50.0 * 0.99);  // 50 Hz, one frame short over the 2 s at most
   EXPECT_LE(longest_gap_ms, 2 * protocol::kStatePeriod_ms);
   EXPECT_EQ(rig.state(), core::ArmState::running);
+}
+
+
+// SPEC 8 (revision 2), the worst load: all the work of each tick (the iteration, the serial link
+// with its state frames, the interrupts that land in it: from the wake-up to the next sleep,
+// tick_awake) and the CPU load, while the stick ramps in every mode (full one way, released,
+// full the other way), a command flood comes at the line's full rate (speed_scale commands
+// back to back, each answered), and then a move to a stored pose under the same flood. The
+// steppers run as fast as these motions drive them; their peak step rates are printed beside
+// their configured top speeds (and what the step interrupts would add at those).
+// Gated: no tick is lost (one iteration a millisecond). SPEC 8's worst tick (12,800 cycles) and
+// CPU load (60 %) are measured and printed, not gated: the firmware does not meet them under
+// this load (docs/performance.md); a tick's work then runs into the next one's time, and the
+// longest stretch awake spans several ticks.
+struct WorstLoadRun {
+  uint64_t worst_tick = 0;
+  double worst_tick_at_s = 0, cpu_load = 0;
+  uint64_t ticks = 0, window_ms = 0, window_cycles = 0, asleep_cycles = 0;
+  double peak_steps_s[3] = {0, 0, 0};
+  uint64_t step_isr_max = 0;
+  bool ran = false;
+};
+WorstLoadRun worst_load_run() {
+  WorstLoadRun r;
+  test::Rig rig(kFirmware);
+  if (rig.start(12.0) < 0) return r;
+  // the flood: one command every 0.7 ms (8 bytes take 0.69 ms on the line), for the whole window
+  uint8_t seq = 0;
+  double next_command_s = rig.sim.time_s();
+  int64_t last_steps[3] = {0, 0, 0};
+  const sim::Measurements m0 = rig.sim.measurements();
+  for (int k = 0; k < 3; ++k) last_steps[k] = m0.steps[k].commanded;
+  auto run_flooded = [&](double until_s) {
+    for (double t = rig.sim.time_s(); t < until_s; t += 0.01) {
+      while (next_command_s < t + 0.01) {
+        rig.sim.send_serial(test::command(protocol::MsgType::cmd_speed_scale, seq++, {100}));
+        next_command_s += 0.7e-3;
+      }
+      rig.run_to(t + 0.01);
+      const sim::Measurements m = rig.sim.measurements();
+      for (int k = 0; k < 3; ++k) {
+        r.peak_steps_s[k] = std::max(r.peak_steps_s[k], std::fabs((double)(m.steps[k].commanded - last_steps[k])) / 0.01);
+        last_steps[k] = m.steps[k].commanded;
+      }
+    }
+  };
+  rig.sim.send_serial(test::command(protocol::MsgType::cmd_store_pose, seq++, {1}));
+  rig.run_to(rig.sim.time_s() + 0.1);
+  const sim::Measurements before = rig.sim.measurements();
+  rig.sim.reset_tick_awake();
+  const double kStick[4][2] = {{1, 0}, {0, 1}, {0.7, 0.7}, {0, 1}};  // XY, XZ, R1, R2
+  for (int mode = 0; mode < 4; ++mode) {
+    for (double way : {1.0, -1.0}) {
+      rig.sim.set_joystick(way * kStick[mode][0], way * kStick[mode][1]);
+      run_flooded(rig.sim.time_s() + 1.0);
+      rig.sim.set_joystick(0, 0);
+      run_flooded(rig.sim.time_s() + 0.5);
+    }
+    rig.sim.set_button(true);  // short press: the next mode
+    run_flooded(rig.sim.time_s() + 0.1);
+    rig.sim.set_button(false);
+    run_flooded(rig.sim.time_s() + 0.3);
+  }
+  rig.sim.send_serial(test::command(protocol::MsgType::cmd_goto_pose, seq++, {1}));
+  next_command_s += 0.7e-3;
+  run_flooded(rig.sim.time_s() + 4.0);
+  const sim::Measurements after = rig.sim.measurements();
+  r.worst_tick = after.tick_awake.max;
+  r.worst_tick_at_s = after.tick_awake_max_at_s;
+  r.ticks = after.loop_high.count - before.loop_high.count;
+  r.window_ms = (after.cycles - before.cycles) / (board::kCpuHz / 1000);
+  r.window_cycles = after.cycles - before.cycles;
+  r.asleep_cycles = IterationRun::asleep(after) - IterationRun::asleep(before);
+  r.cpu_load = 1 - (double)r.asleep_cycles / r.window_cycles;
+  for (const char* v : {"TIMER5_COMPA", "TIMER5_COMPB", "TIMER5_COMPC"}) {
+    const auto it = after.isr.find(v);
+    if (it != after.isr.end()) r.step_isr_max = std::max<uint64_t>(r.step_isr_max, it->second.max_cycles);
+  }
+  r.ran = after.sim_faults.empty();
+  return r;
+}
+
+TEST(FirmwareBudgets, WorstLoadLosesNoTick) {
+  const WorstLoadRun r = worst_load_run();
+  ASSERT_TRUE(r.ran);
+  ASSERT_GT(r.ticks, 15000u);
+  // the steppers' configured top speeds (their joints' speed limits), steps a second
+  double top_steps_s[3], top_isr_per_tick = 0;
+  for (int k = 0; k < 3; ++k) {
+    top_steps_s[k] = config::kStepsPerJointTurn[k] * config::kJointSpeedLimit_crad_s[config::kStepperJoint[k]] / 100.0 / (2 * M_PI);
+    top_isr_per_tick += top_steps_s[k] / config::kLoopHz * r.step_isr_max;
+  }
+  std::printf("worst load: the longest tick %llu cycles (at %.3f s; SPEC 8: %llu), CPU load %.1f %% (SPEC 8: %.0f %%) over %llu ticks\n",
+              (unsigned long long)r.worst_tick, r.worst_tick_at_s, (unsigned long long)kTickTarget_cycles, 100 * r.cpu_load,
+              100 * kCpuLoadTarget, (unsigned long long)r.ticks);
+  std::printf("iterations %llu in %llu ms\n", (unsigned long long)r.ticks, (unsigned long long)r.window_ms);
+  std::printf("steppers' peak step rates J1 %.0f, J5 %.0f, J6 %.0f steps/s; at their top speeds %.0f, %.0f, %.0f "
+              "(the step interrupts, %llu cycles each, would take %.0f cycles a tick)\n",
+              r.peak_steps_s[0], r.peak_steps_s[1], r.peak_steps_s[2], top_steps_s[0], top_steps_s[1], top_steps_s[2],
+              (unsigned long long)r.step_isr_max, top_isr_per_tick);
+  ::testing::Test::RecordProperty("worst_tick_cycles", std::to_string(r.worst_tick));
+  ::testing::Test::RecordProperty("cpu_load", std::to_string(r.cpu_load));
+  EXPECT_NEAR((double)r.ticks, (double)r.window_ms, 1.0) << "a tick lost under the worst load";
 }
 
 }  // namespace
