@@ -56,15 +56,17 @@ constexpr double kLongPress_s = config::kButtonLongPress_ms / 1000.0 + 0.2;
 // wait_home (at about 0.6 s).
 constexpr double kHomeAt_s = 0.7;
 inline std::vector<uint8_t> home_frame() { return command(protocol::MsgType::cmd_home, 0xE0); }
-inline std::string home_event(double t_s = kHomeAt_s) {
+// bytes as a scenario's `serial` line writes them
+inline std::string hex(const std::vector<uint8_t>& bytes) {
   static const char kHex[] = "0123456789abcdef";
-  std::string line = std::to_string(t_s) + " serial ";
-  for (uint8_t b : home_frame()) {
-    line += kHex[b >> 4];
-    line += kHex[b & 15];
+  std::string out;
+  for (uint8_t b : bytes) {
+    out += kHex[b >> 4];
+    out += kHex[b & 15];
   }
-  return line + "\n";
+  return out;
 }
+inline std::string home_event(double t_s = kHomeAt_s) { return std::to_string(t_s) + " serial " + hex(home_frame()) + "\n"; }
 
 // the same on a simulator run without a Rig: runs to t_s and sends `home`
 inline void ask_home_at(sim::ArmSimulator& sim, double t_s = kHomeAt_s) {
