@@ -221,6 +221,7 @@ void configure(Settings& settings) {
   g_arm.stick.set_stored_centre(settings.stick_centre_counts[0], settings.stick_centre_counts[1]);
   g_arm.button.configure(control::ButtonConfig{kButtonDebounce_ms, kButtonLongPress_ms});
   for (uint8_t j = 0; j < 6; ++j) g_arm.drives.positive_rad_s[j] = g_arm.drives.negative_rad_s[j] = kMotionLimits.joint[j].speed_rad_s;
+  g_arm.j1_max_change_per_tick = kJ1MaxChangeAtWorst;
   stepper_drives::configure();
   homing::configure();
   dc_drives::configure(settings);

@@ -27,7 +27,8 @@ using kin::Fixed;
 
 // each joint reference's largest change of speed in a motion pass
 constexpr fx::Real per_pass(uint8_t j) { return fx::Real{kMaxSpeedChangePerTick[j].raw * plan::kMotionPeriod_ticks}; }
-constexpr fx::Real kMaxSpeedChangePerPass[6] = {per_pass(0), per_pass(1), per_pass(2), per_pass(3), per_pass(4), per_pass(5)};
+// (J1's entry follows the pose: g_arm.j1_max_change_per_tick)
+fx::Real g_max_speed_change_per_pass[6] = {per_pass(0), per_pass(1), per_pass(2), per_pass(3), per_pass(4), per_pass(5)};
 // The drift correction's hand position goes with the holding effort (plan::kHolding): its time
 // constant is 1 / kDriftGain_per_s, and the error it corrects (the integrated references'
 // rounding) grows over seconds.
@@ -135,12 +136,20 @@ void pass(const control::JoystickOutput& stick, const Requests& rq, uint8_t tick
   const uint16_t closed = g_arm.drives.closed_switches;
   const uint8_t slowed_by = closed ? core::named_switch_stop(rates.slowed_by, inv, closed) : rates.slowed_by;
   g_arm.status.slowed_by = (uint8_t)(slowed_by | (tracking.raw < fx::kUnitOne ? core::kSlowTracking : 0));
+  // J1 speeding up (or reversing) at most at the pose's bound: its lag behind its field then adds
+  // to a stop's travel; slowing down, the rotor leads its field and a stop shortens its swing
+  const int32_t j1_now = g_arm.q.qd_rad_s[0].raw, j1_wanted = core::scaled(rates.scale, inv.qd_rad_s[0]).raw;
+  const bool j1_speeding_up = j1_now >= 0 ? (j1_wanted > j1_now || j1_wanted < 0) : (j1_wanted < j1_now || j1_wanted > 0);
+  const fx::Real j1_change = j1_speeding_up ? g_arm.j1_max_change_per_tick : kMaxSpeedChangePerTick[0];
   fx::Real max_change[6];
   if (ticks != plan::kMotionPeriod_ticks) {
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
+    max_change[0] = fx::Real{j1_change.raw * ticks};
+  } else {
+    g_max_speed_change_per_pass[0] = fx::Real{j1_change.raw * plan::kMotionPeriod_ticks};
   }
   const fx::Unit k = core::limit_joint_acceleration(g_arm.q.qd_rad_s, inv.qd_rad_s, rates.scale,
-                                                    ticks == plan::kMotionPeriod_ticks ? kMaxSpeedChangePerPass : max_change);
+                                                    ticks == plan::kMotionPeriod_ticks ? g_max_speed_change_per_pass : max_change);
   // the hand's commanded velocity as far as the joints' speeds have reached it
   if (k.raw == fx::kUnitOne && rates.scale.raw == fx::kUnitOne) {
     g_v_m_s = v_cmd;

@@ -75,6 +75,8 @@ void update_j1_stop(const kin::JacobianTrig<kin::Fixed>& trig) {
   if (speed2_q4 > (1ul << 27)) speed2_q4 = 1ul << 27;
   const uint16_t speed_mrad_s = fx::isqrt32(speed2_q4 << 4);
   g_j1_stop_speed = fx::Real{(int32_t)fx::mul_uu(speed_mrad_s, 8388)};  // Q23 rad/s: 8,388.6 a mrad/s
+  const uint32_t change = kJ1LagAccelPerTick_q23_x16 / fx::mul_uu(inertia_gm2, reach_mm) * 16;
+  g_arm.j1_max_change_per_tick = fx::Real{(int32_t)(change < (uint32_t)kMaxSpeedChangePerTick[0].raw ? change : kMaxSpeedChangePerTick[0].raw)};
 }
 
 // (the DC joints' speeds are the governor's, set just before or at its last run)

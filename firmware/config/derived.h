@@ -82,6 +82,10 @@ static_assert(kJointAccelLimit_crad_s2[0] * 10 <= kStepperAccel_crad_s2[0] * 9 &
               "a stepper's reference accelerates at most 90 % of its ramp's limit, or the ramp cannot catch up");
 // a DC reference's largest change of speed in one tick
 constexpr int32_t max_of(int32_t a, int32_t b) { return a > b ? a : b; }
+// J1's at the largest inertia and the farthest reach (1.1 m), until the pose is known
+constexpr fx::Real kJ1MaxChangeAtWorst{(int32_t)(kJ1LagAccelPerTick_q23_x16 * 16.0 / (kStepperLoadInertia_gm2[0] * 1100.0))};
+static_assert(kJ1MaxChangeAtWorst.raw > 0 && kJ1MaxChangeAtWorst.raw <= kMaxSpeedChangePerTick[0].raw,
+              "kJ1LagTravel_um: J1's acceleration at the worst pose above 0 and within kJointAccelLimit_crad_s2[0]");
 constexpr int32_t kMaxDcChange =
     max_of(max_of(kMaxSpeedChangePerTick[kDcJoint[0]].raw, kMaxSpeedChangePerTick[kDcJoint[1]].raw), kMaxSpeedChangePerTick[kDcJoint[2]].raw);
 static_assert(kMaxDcChange < 32768, "a DC reference's change of speed in one tick fits 16 bits");

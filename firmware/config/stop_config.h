@@ -79,17 +79,37 @@ constexpr double kJ1StepsPerRad = kStepsPerJointTurn[0] / (2 * kStopPi);
 constexpr uint32_t kJ1StartStopInterval2_per_gm2_q8 =
     (uint32_t)(250000.0 * 250000.0 * 50.0 / (2.0 * kStepperHoldingTorque_mNm[0] * 1e-3 * kStopSpringOneLessCos * kJ1StepsPerRad *
                                                kJ1StepsPerRad * 1000.0) * 256.0 + 1);
-// J1's speed at which the hand, at its distance r (mm) from the base axis, stops within
-// kStopTravel_mm when J1 decelerates with its whole holding torque (the stopped field's spring
-// and the drive's damping come close to it in the simulator): w^2 r / (2 T_hold gear / I) <= d,
-// w^2 (mrad/s)^2 = kJ1StopSpeed2_q4 16 / (I r). The DC joints, braking on their shorted motors,
-// take the rest of SPEC 6's 10 mm.
+// J1's stop at the hand, within kStopTravel_mm; the DC joints, braking on their shorted motors,
+// take the rest of SPEC 6's 10 mm. Two things carry the hand on when J1's train stops:
+//   - the load's speed: J1 decelerating with its whole holding torque (the stopped field's
+//     spring and the drive's damping come close to it in the simulator) stops within
+//     w^2 r / (2 T_hold gear / I) at the hand;
+//   - J1's lag behind its field while it accelerates: the torque I alpha that the field's spring
+//     (stiffness k = T_hold N_r gear^2 at the joint, N_r = 50) gives at a lag of I alpha / k.
+//     The rotor, stopped from behind the field, swings past it as far again: from a lag L and a
+//     swing S of the speed alone the hand goes L + sqrt(L^2 + S^2) (the spring's energy).
+// So J1's acceleration is bounded where the arm's inertia is large (L <= kJ1LagTravel_um at the
+// hand: alpha <= k L / (I r)) and its speed by the rest, S = sqrt((kStopTravel_mm - L)^2 - L^2):
+// w^2 (mrad/s)^2 = kJ1StopSpeed2_q4 16 / (I r). Without the lag's share a stop while J1 sped up
+// at 1 m took the hand 18 mm.
 constexpr int16_t kStopTravel_mm = 8;
-constexpr uint32_t kJ1StopSpeed2_q4 =
-    (uint32_t)(2.0 * kStopTravel_mm * 1e-3 * kStepperHoldingTorque_mNm[0] * 1e-3 * stepper_gear(0) * 1e12 / 16.0);
-// J1's homing approach stops within kStopTravel_mm at the hand from any pose (the largest inertia
-// at the farthest reach, 1.1 m: the pose is not known while it homes)
-static_assert(kHomingFast_crad_s[0] * kHomingFast_crad_s[0] * 100.0 <= kJ1StopSpeed2_q4 * 16.0 / (kStepperLoadInertia_gm2[0] * 1100.0),
+constexpr int16_t kJ1LagTravel_um = 1000;
+constexpr double kJ1SwingTravel_mm =
+    stop_sqrt((kStopTravel_mm - kJ1LagTravel_um / 1000.0) * (kStopTravel_mm - kJ1LagTravel_um / 1000.0) -
+              (kJ1LagTravel_um / 1000.0) * (kJ1LagTravel_um / 1000.0));
+constexpr uint32_t j1_stop_speed2_q4(double travel_mm) {
+  return (uint32_t)(2.0 * travel_mm * 1e-3 * kStepperHoldingTorque_mNm[0] * 1e-3 * stepper_gear(0) * 1e12 / 16.0);
+}
+constexpr uint32_t kJ1StopSpeed2_q4 = j1_stop_speed2_q4(kJ1SwingTravel_mm);
+// J1's largest change of speed in a 1 ms tick, Q23 rad/s, times 16, over I (g m^2) r (mm):
+// alpha = k L / (I r) with k in N m/rad, L in um and I r in g m^2 mm (1e-6 kg m^3): alpha rad/s^2
+// = k L / (I r) exactly; per tick x 2^23 / 1000.
+constexpr double kJ1Stiffness_Nm_per_rad = kStepperHoldingTorque_mNm[0] * 1e-3 * 50.0 * stepper_gear(0) * stepper_gear(0);
+constexpr uint32_t kJ1LagAccelPerTick_q23_x16 = (uint32_t)(kJ1Stiffness_Nm_per_rad * kJ1LagTravel_um * 8388608.0 / 1000.0 / 16.0);
+// J1's homing approach, at its speed, stops within kStopTravel_mm at the hand from any pose (the
+// largest inertia at the farthest reach, 1.1 m: the pose is not known while it homes)
+static_assert(kHomingFast_crad_s[0] * kHomingFast_crad_s[0] * 100.0 <=
+                  j1_stop_speed2_q4(kStopTravel_mm) * 16.0 / (kStepperLoadInertia_gm2[0] * 1100.0),
               "kHomingFast_crad_s[0]: J1's homing approach must stop within kStopTravel_mm at the hand");
 constexpr uint16_t kJ1RotorAtJoint_gm2 = (uint16_t)(kStepperRotorInertia_gcm2[0] * 1e-4 * stepper_gear(0) * stepper_gear(0) + 1);
 
@@ -110,6 +130,8 @@ static_assert(kStopTorqueShare_permille >= 200 && kStopTorqueShare_permille <= 9
 static_assert(kStandstillMove_mdeg >= 200 && kStandstillMove_mdeg <= 5000,
               "kStandstillMove_mdeg in [200, 5000]: above a pot's noise, below a visible move");
 static_assert(kStopTravel_mm >= 3 && kStopTravel_mm <= 10, "kStopTravel_mm in [3, 10]: SPEC 6's 10 mm less the DC joints' share");
+static_assert(kJ1LagTravel_um >= 200 && 4 * kJ1LagTravel_um <= kStopTravel_mm * 1000,
+              "kJ1LagTravel_um in [200, kStopTravel_mm / 4]: the most of the stop's travel left to J1's speed");
 static_assert(kStandstillSettle_ms >= 10 && kStandstillSettle_ms <= 500, "kStandstillSettle_ms in [10, 500]");
 static_assert(kStepperReleaseAfterStop_ms == 0 || kStepperReleaseAfterStop_ms >= 1000,
               "kStepperReleaseAfterStop_ms: 0 (never) or at least 1 s (a person's re-arm comes first)");
