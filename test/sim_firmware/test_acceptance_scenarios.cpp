@@ -180,11 +180,13 @@ TEST_P(S6, DrivingIntoALimitStopsBeforeTheSwitch) {
     slowed |= (s.slowed_by & core::kSlowSoftLimit) != 0;
   }
   EXPECT_TRUE(slowed) << "telemetry never named the soft limit";
-  // driving back for a second moves it away at (nearly) the commanded rate
-  stream_joint(rig, seq, c.joint, -c.rate_rad_s, rig.sim.time_s() + 1.0);
+  // driving back for two seconds moves it away at more than half the commanded rate on average
+  // (J1 with the arm far out speeds up at its lag's bound, about 0.1 rad/s^2: stop_config.h)
+  constexpr double kBack_s = 2.0;
+  stream_joint(rig, seq, c.joint, -c.rate_rad_s, rig.sim.time_s() + kBack_s);
   const double back_rad = q_pushed - rig.sim.q()[c.joint];
-  std::printf("S6 J%d: driven back %.2f deg in 1 s at %.2f rad/s\n", c.joint + 1, back_rad / kDeg, c.rate_rad_s);
-  EXPECT_GT(back_rad, 0.5 * c.rate_rad_s);
+  std::printf("S6 J%d: driven back %.2f deg in %.0f s at %.2f rad/s\n", c.joint + 1, back_rad / kDeg, kBack_s, c.rate_rad_s);
+  EXPECT_GT(back_rad, 0.5 * c.rate_rad_s * kBack_s);
   EXPECT_EQ(rig.state(), core::ArmState::running);
   size_t ok_replies = 0;
   for (const protocol::ReplyMsg& m : rig.telemetry.replies()) ok_replies += m.status == (uint8_t)protocol::ReplyStatus::ok;
@@ -194,7 +196,7 @@ TEST_P(S6, DrivingIntoALimitStopsBeforeTheSwitch) {
 // J1 from 70 deg: 0.15 rad/s keeps the hand (0.75 m out) near 0.11 m/s; J4 from 50 deg: 0.4
 // rad/s moves the hand 0.26 m from the joint at about 0.1 m/s
 INSTANTIATE_TEST_SUITE_P(AcceptanceScenarios, S6,
-                         ::testing::Values(LimitCase{0, 0.15, 3.0}, LimitCase{3, 0.4, 8.0}),
+                         ::testing::Values(LimitCase{0, 0.15, 5.0}, LimitCase{3, 0.4, 8.0}),
                          [](const ::testing::TestParamInfo<LimitCase>& i) {
                            return "J" + std::to_string(i.param.joint + 1);
                          });
@@ -286,7 +288,8 @@ TEST(AcceptanceScenarios, S8JoystickUnpluggedStopsAndNeedsNeutral) {
   ASSERT_TRUE(r.ok());
   ASSERT_TRUE(released.ok());
   Rig& rig = r.rig;
-  const double t_unplug = std::max(r.t_rest_s, released.t_rest_s) + 1.0;
+  // (2 s: sideways at the ready pose, far out, J1 speeds up at its lag's bound, stop_config.h)
+  const double t_unplug = std::max(r.t_rest_s, released.t_rest_s) + 2.0;
   for (Rig* each : {&rig, &released.rig}) {
     each->sim.set_joystick(1.0, 0.0);
     each->run_to(t_unplug - 0.1);
@@ -296,7 +299,7 @@ TEST(AcceptanceScenarios, S8JoystickUnpluggedStopsAndNeedsNeutral) {
   released.rig.run_to(t_unplug);
   const armsim::TrajectoryRow at_unplug = rig.pose(), at_release = released.rig.pose();
   const double speed_m_s = distance_mm(at_unplug.p, before.p) / 1000 / 0.1;
-  EXPECT_GT(speed_m_s, 0.1) << "the hand was moving";
+  EXPECT_GT(speed_m_s, 0.08) << "the hand was moving (J1's stop bounds it to about 0.1 m/s there)";
   const size_t first_frame = rig.telemetry.states().size(), first_released = released.rig.telemetry.states().size();
   rig.sim.set_joystick_unplugged(true);
   released.rig.sim.set_joystick(0.0, 0.0);
@@ -352,7 +355,7 @@ TEST(AcceptanceScenarios, S8JoystickUnpluggedStopsAndNeedsNeutral) {
   EXPECT_FALSE(has_fault(rig.last(), core::kFaultBitStickInvalid));
   rig.sim.set_joystick(1.0, 0.0);
   const armsim::TrajectoryRow rearmed = rig.pose();
-  rig.run_to(t_neutral + 0.5);
+  rig.run_to(t_neutral + 1.0);
   EXPECT_GT(distance_mm(rig.pose().p, rearmed.p), 20.0) << "the stick drives again after neutral";
 }
 
