@@ -118,7 +118,7 @@ class DcServo {
   // saturation changes no decision.
   // On the AVR the common run (not parked, the PID, every second tick) is update_running's
   // asm (core/avr/dc_servo_running.h); update_portable is the C of every case, the host's, and
-  // the asm's specification (test/avr/fixed_products_avr.cpp compares the two on the chip).
+  // the asm's specification (test/avr/kinematics/fixed_products_avr.cpp compares the two on the chip).
   __attribute__((noinline)) int16_t update(int16_t reference_units, int16_t measured_units, int16_t feedforward_q15,
                                            int16_t holding_q15 = 0, uint8_t ticks = 1) {
 #if defined(__AVR__)

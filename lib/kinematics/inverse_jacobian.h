@@ -134,7 +134,7 @@ void planar_chain(const Trig& t, const SingularFactors<N>& factors, typename N::
 // kTurning = false: the twist has no angular velocity (the translation modes), and the terms
 // of w are left out. Bit-identical to kTurning = true with w = 0: a product of a zero Real is
 // zero, and dot(a, 0, b, y) = b y exactly (fixed_point.h; test_kinematics_fixed checks it,
-// test/sim_kinematics on the AVR). It saves seven of J^-1's eleven fused products.
+// test/avr/kinematics on the AVR). It saves seven of J^-1's eleven fused products.
 template <class N, bool kTurning, class Trig>
 JacobianInverse<N> inverse_jacobian_of(const Trig& t, const Vec3<typename N::Real>& v, const Vec3<typename N::Real>& w) {
   static constexpr typename N::Band damp_c5 = N::band(arm::kSingularBands.damp_c5);

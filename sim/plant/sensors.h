@@ -12,7 +12,7 @@ namespace wmra {
 namespace plant {
 
 // What simavr 1.6 does with an analog input: counts = mV * 1023 / Vref, truncated, clamped to
-// 0..1023 (measured with test/sim_plant; the chip itself rounds mV * 1024 / Vref).
+// 0..1023 (measured with test/sim/plant; the chip itself rounds mV * 1024 / Vref).
 inline int adc_counts_simavr(double mv, double vref_mv = kAdcRefMv) {
   if (mv <= 0) return 0;
   const long c = (long)(std::floor(mv) * 1023 / vref_mv);

@@ -1,4 +1,4 @@
-// The pose that S3's R2 turn starts from (test/sim_firmware/test_motion_scenarios.cpp), joint
+// The pose that S3's R2 turn starts from (test/sim/firmware/test_motion_scenarios.cpp), joint
 // angles in degrees. At the ready pose the turn is out of the arm's reach;
 // test/host/test_turn_reach.cpp checks both and tells how this pose was chosen.
 #pragma once

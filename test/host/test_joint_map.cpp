@@ -170,7 +170,7 @@ TEST(PotMap, PlausibleCalibrationsTakeTheConstantShifts) {
 
 namespace {
 
-// JointReferences::advance_all, whose AVR asm test/avr/fixed_products_avr.cpp checks against the
+// JointReferences::advance_all, whose AVR asm test/avr/kinematics/fixed_products_avr.cpp checks against the
 // same 64-bit reference: the portable twin over 10^7 seeded joint steps (every 8th velocity an
 // extreme), of one tick and of two in turn, angles within +-2^30 (the twin's sum is a signed one).
 TEST(JointReferences, AdvanceAllIsTheReferenceStep) {

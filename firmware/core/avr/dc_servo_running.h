@@ -1,7 +1,7 @@
 // DcServo::update_running: DcServo::update_portable's common run (every second tick, not parked,
 // the PID) in AVR assembly, tied to DcServo's layout by the offsetof checks below. It is the
 // firmware's one hand-written fast path: the C of update_portable (dc_servo.h) is its
-// specification, and test/avr/fixed_products_avr.cpp checks on the chip that both give the same
+// specification, and test/avr/kinematics/fixed_products_avr.cpp checks on the chip that both give the same
 // duty and state for the same inputs. Its gain, measured with armsim on scenarios/demo.txt,
 // moves-to-a-pose.txt and profile.txt against the C path at -O3: about 200 cycles per control
 // iteration (CPU load 1.1 to 1.4 points lower), the worst iteration unchanged; it stays while
@@ -24,7 +24,7 @@ namespace core {
 //           feedforward - D (Q15, 32 bits), as Pid::update_effort forms them for two ticks;
 //   settle  the effort's limits, the conditional integration, the rounded clamped effort, the
 //           remembered integral, then the duty (duty_for still, duty_moving moving) and applied_.
-// Bit-identical to update_portable (test/avr/fixed_products_avr.cpp: on the chip, random and
+// Bit-identical to update_portable (test/avr/kinematics/fixed_products_avr.cpp: on the chip, random and
 // edge vectors, every branch counted). A park leaves the front with f's bit 7 and the rest to C.
 // r1 is the zero register outside the products (each clears it after); k their zero byte.
 

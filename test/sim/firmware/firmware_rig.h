@@ -1,4 +1,4 @@
-// The firmware ELF against the virtual arm, for the scenario tests of test/sim_firmware: the
+// The firmware ELF against the virtual arm, for the scenario tests of test/sim/firmware: the
 // simulator, the firmware's telemetry decoded as armsim decodes it, and commands to send it.
 #pragma once
 

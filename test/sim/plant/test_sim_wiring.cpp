@@ -1,4 +1,4 @@
-// The simulator's wiring, pinned down by small AVR images of our own (test/sim_plant/avr):
+// The simulator's wiring, pinned down by small AVR images of our own (test/sim/plant/avr):
 // each drives the board's pins the way the firmware will, and the plant must see it.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// Prints the fixed-point kinematics of the shared test vectors; test/sim_kinematics
+// Prints the fixed-point kinematics of the shared test vectors; test/avr/kinematics
 // compares this output with the same code compiled for the host.
 #include "kinematics_vectors.h"
 #include "probe.h"

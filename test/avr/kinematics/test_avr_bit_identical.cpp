@@ -38,7 +38,7 @@ TEST(AvrKinematics, BitIdenticalToHost) {
 }
 
 // The hand-written AVR arithmetic (products, saturating sums) against int64 and plain
-// integer arithmetic on the chip itself (test/avr/fixed_products_avr.cpp).
+// integer arithmetic on the chip itself (test/avr/kinematics/fixed_products_avr.cpp).
 TEST(AvrKinematics, HandWrittenArithmeticMatchesIntegerReference) {
   const std::string out = wmra::simrun::output_of(std::string(AVR_RUN) + " " + PRODUCTS_ELF);
   EXPECT_NE(out.find("mismatches 0\n"), std::string::npos) << out;
