@@ -70,7 +70,7 @@ bool g_governor_due;       // and the governor has not run since
 
 // --- drives held, on and off
 
-// The stop (SPEC 6): the bridges brake (both sides low: the worms hold), each stepper's train
+// The stop (docs/arm-guide.md, safety): the bridges brake (both sides low: the worms hold), each stepper's train
 // ends at once or ramps down at its stop's deceleration, its driver enabled: the arm holds
 // where it stopped and the step counts stay the joints' angles. The stop hook (the safety
 // button's and the switches' interrupts) has done the same already. The DC references stand
@@ -176,7 +176,7 @@ void pose_jobs(uint16_t jobs, bool stick_drives) {
 // stick (or a stream) drives.
 bool running_tick(uint16_t jobs, uint8_t ticks, Requests& rq, const control::JoystickOutput& stick, bool stick_valid,
                   bool stick_neutral, bool long_press) {
-  // A stick at a rail (unplugged, broken) moves nothing (SPEC 6), whatever else commands: a move
+  // A stick at a rail (unplugged, broken) moves nothing, whatever else commands: a move
   // or a streamed velocity would go on where the person could not take it over. A deflected stick
   // takes a stream over, as it does a move: the stream ends (the link refuses it until it has
   // stopped arriving), it does not drive again when the stick is let go.

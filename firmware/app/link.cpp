@@ -28,7 +28,7 @@ uint16_t g_rejected;
 uint32_t g_next_state_ms;  // the next state frame is due at this tick::now_ms()
 uint16_t g_velocity_age_ms = 0xFFFF;  // since the last velocity command, accepted or refused
 // The stream is over: its velocity commands are refused until none has come for the timeout,
-// so that the host must pause and begin a new one (SPEC 6). Any stop ends it (the state leaves
+// so that the host must pause and begin a new one. Any stop ends it (the state leaves
 // running), and so does the stick: at a rail, deflected, or taking it over.
 bool g_stream_ended;
 uint8_t g_arrived;  // uart::arrived() at the last poll
@@ -97,8 +97,7 @@ constexpr uint8_t kTestHangCommand = 0x7F;
 constexpr uint8_t kTestStallCommand = 0x7E;
 #endif
 
-// a streamed velocity or a move may go on: running, with a stick the person can take it over
-// with (SPEC 6)
+// a streamed velocity or a move may go on: running, with a stick the person can take it over with
 bool motion_allowed(const Status& st) {
   return st.state == core::ArmState::running && !(st.faults & core::fault_mask(core::kFaultBitStickInvalid));
 }
@@ -188,7 +187,7 @@ ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
 
 // The state frame is built over three ticks, from the report of the first: built at once it took
 // about 8,000 cycles on top of that tick's iteration (the report ~1,500, the fields' conversions
-// ~3,500, the CRC and the transmit buffer ~2,800), more than a tick's budget leaves (SPEC 8).
+// ~3,500, the CRC and the transmit buffer ~2,800), more than a tick's budget leaves (docs/performance.md).
 //   gather   the report copied (one tick's state), the time
 //   convert  the fields into the message, in a frame buffer of its own (replies go meanwhile)
 //   send     the CRC and the transmit buffer

@@ -1,4 +1,4 @@
-// The firmware of the wheelchair-mounted arm on the ATmega2560 (SPEC.md).
+// The firmware of the wheelchair-mounted arm on the ATmega2560 (docs/design.md).
 //
 // Start-up: every output is made safe before anything else (drivers disabled, bridges low),
 // then the watchdog, the settings and J6's angle at rest from EEPROM, the peripherals, and a

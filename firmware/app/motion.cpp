@@ -52,7 +52,7 @@ uint8_t g_stream_halt_ms;
 
 // The stream's halt lets the DC joints come to rest before the stick drives again; ramping the
 // references down along the stick's ramps instead lets the hand run on 28-34 mm past the last
-// frame (SPEC 6: at rest within 0.3 s of it, at most 25 mm from 0.15 m/s, 100 ms of that at
+// frame (the rule: at rest within 0.3 s of it, at most 25 mm from 0.15 m/s, 100 ms of that at
 // full speed before the timeout).
 constexpr uint8_t kStreamHalt_ms = 60;
 

@@ -1,5 +1,5 @@
 // The tick plan: which periodic jobs each 1 ms control tick carries, as one table over a cycle of
-// eight ticks, and the checks over it (SPEC 8's rates, no tick with two heavy jobs). The loop
+// eight ticks, and the checks over it (the loop's rates, no tick with two heavy jobs). The loop
 // (arm_control.cpp) is its one dispatcher: it reads the tick's entry and runs what it names.
 //
 // Every tick, whatever the plan: the ADC snapshot, the pot and switch checks, the supervisor and
@@ -113,7 +113,7 @@ constexpr bool stick_with_motion() {
 }
 
 static_assert(rate_hz(kMotionPass) >= 500 && rate_hz(kDcServos) >= 500 && rate_hz(kStepperRamps) >= 250,
-              "SPEC 8: the motion chain and each DC drive loop at >= 500 Hz, the stepper ramps at >= 250 Hz");
+              "the motion chain and each DC drive loop at >= 500 Hz, the stepper ramps at >= 250 Hz");
 static_assert(period(kMotionPass) == 2 && period(kDcServos) == 2 && period(kStepperRamps) == 4 && period(kHolding) == 8 &&
                   period(kGovernor) == 8 && period(kHoldingIdle) == 8 && period(kGovernorIdle) == 8 && period(kWristWatch) == 8,
               "every job evenly spaced: its gains and ramps count the ticks since its last run");

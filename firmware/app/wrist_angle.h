@@ -1,4 +1,4 @@
-// J6's angle at rest, kept in EEPROM (SPEC 5) as a ring of records (core/record_ring.h) in its
+// J6's angle at rest, kept in EEPROM as a ring of records (core/record_ring.h) in its
 // own area (drivers/eeprom_map.h), apart from the settings: a record is 8 bytes, and the ring's
 // 128 slots share the writes, so each cell takes one record in 128 (100,000 writes a cell: 12.8
 // million records). The EEPROM writes one byte at a time: service() shares it with the settings'

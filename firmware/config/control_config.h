@@ -31,7 +31,7 @@ constexpr uint16_t kStickCalibrationSpread_counts = 12;
 // stick's own centre: one further off reads at the rail margin when pushed full, a rail fault in
 // mid-motion (at 60 counts a full push did). 30 counts are 0.15 V, 7 % of a full stick.
 constexpr uint16_t kStickCentreTolerance_counts = 30;
-constexpr int16_t kStickDeadZone_permille = 20;  // SPEC 5: about 2 %
+constexpr int16_t kStickDeadZone_permille = 20;  // about 2 %
 // Once the stick's released centre is stored (cmd_stick_centre), a power-up centre further from
 // it than this is a hand on the stick, refused until it lets go. Released, the stick then reads
 // at most this far from the centre taken, plus 1 count that the joystick keeps a reading by

@@ -1,4 +1,4 @@
-// What the DC joints lift: the arm's mass properties (seed 2, Table 3.4 from CAD, digest 1.6),
+// What the DC joints lift: the arm's mass properties (Torres's thesis, Table 3.4, from CAD),
 // the payload it is designed for, and the torque of the DC drives. The firmware's gravity
 // feedforward (firmware/core/gravity.h) is built from these at compile time. Only the parts
 // that load J2..J4 matter: each link's centre of mass in its own frame (x, y; z lies along the
@@ -25,8 +25,8 @@ constexpr int16_t kLink5Mass_g = 537;
 constexpr int16_t kPayloadMass_g = 1200;
 constexpr int16_t kPayloadOffset_mm = 100;
 
-// The Mabuchi 578VA with its worm: 9.12 N m at stall at 12 V (digest 1.2); each DC joint's own
-// gear after it, tenths (SPEC 4: 1:4.5, 1:2.5, 1:2)
+// The Mabuchi 578VA with its worm: 9.12 N m at stall at 12 V (Torres, Table 3.1); each DC joint's own
+// gear after it, tenths (1:4.5, 1:2.5, 1:2)
 constexpr int16_t kDcStallTorque_cNm = 912;
 constexpr int16_t kDcGear_tenths[3] = {45, 25, 20};
 // A worm gear that does not back-drive takes a load that aids the motion itself: lowering needs

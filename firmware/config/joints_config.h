@@ -12,7 +12,7 @@ namespace wmra {
 namespace config {
 
 // --- stepper joints J1, J5, J6 (index 0, 1, 2 here)
-// 200 full steps x 1/32 microstep (DRV8825 mode pins high) x the joint's reduction (SPEC 4)
+// 200 full steps x 1/32 microstep (DRV8825 mode pins high) x the joint's reduction
 constexpr uint32_t kStepsPerJointTurn[3] = {200ul * 32 * 2, 200ul * 32 * 10, 200ul * 32 * 1};
 // acceleration limits, rad/s^2 x 100: J1 carries the whole arm (about 0.8 rad/s^2 stretched with
 // the payload before the NEMA23 slips)
@@ -27,14 +27,14 @@ constexpr uint16_t kStepMaxInterval_ticks = 12500;
 // most sqrt(accel x |error|) (firmware/core/stepper_tracking.h)
 constexpr int16_t kStepperPositionGain_per_s = 20;
 
-// Homing (SPEC 5): J1 to its +90 deg switch, J5 to its -90 deg switch, J6 to its zero switch.
+// Homing (docs/arm-guide.md, using the arm): J1 to its +90 deg switch, J5 to its -90 deg switch, J6 to its zero switch.
 // J6's closes kHomeSwitch_deg[2] before each whole turn (0, +-360 deg) from either side (its cam
 // is +-2 deg wide, symmetric about zero); kHomingDir[2] is the direction J6 approaches 0 in when
 // it starts on the cam (-1: from above).
 constexpr int8_t kHomingDir[3] = {+1, -1, -1};
 constexpr int16_t kHomeSwitch_deg[3] = {90, -90, 2};
 // Fast approach: the ramp must brake within the 3 deg between a switch and its hard stop, and a
-// stop during homing keeps the hand within SPEC 6's 10 mm (J1: stop_config.h's check, with the
+// stop during homing keeps the hand within the stop's 10 mm (docs/arm-guide.md, safety) (J1: stop_config.h's check, with the
 // largest inertia at the farthest reach: the pose is not known before homing). J6 brakes on the
 // cam of the first switch it meets, so that it never turns past a switch, +-360 deg's included.
 constexpr int16_t kHomingFast_crad_s[3] = {10, 30, 25};
@@ -48,7 +48,7 @@ constexpr int16_t kHomingMaxTravel_deg[2] = {200, 200};  // J1, J5 (J6: below)
 // simulator's model of the board; measure it on a real board.
 constexpr int16_t kSwitchDelay_ms = 94;
 
-// J6's turn (SPEC 5, firmware/core/wrist_homing.h). Its angle at rest is recorded in EEPROM once
+// J6's turn (firmware/core/wrist_homing.h). Its angle at rest is recorded in EEPROM once
 // it has stayed within kJ6RestBand_mdeg (its tracking may dither a step or two) for
 // kJ6RestBeforeRecord_ms outside a move to a pose (whose line may creep J6 slower than that), at least kJ6RecordChange_mdeg from the angle last recorded, and homing
 // goes to the switch of the turn nearest it: at most half a turn and the cam away. The recorded angle must be where the switch says within kJ6AngleTolerance_mdeg, or
@@ -70,7 +70,7 @@ constexpr bool ready_pose_inside_limits(int j) {
   return j == 6 || (kReadyPose_deg[j] >= arm::q_min_deg[j] + 5 && kReadyPose_deg[j] <= arm::q_max_deg[j] - 5 &&
                     ready_pose_inside_limits(j + 1));
 }
-static_assert(ready_pose_inside_limits(0), "kReadyPose_deg: every joint at least 5 deg inside its limits (SPEC 4)");
+static_assert(ready_pose_inside_limits(0), "kReadyPose_deg: every joint at least 5 deg inside its limits");
 static_assert(kReadyPose_deg[4] > -85 && kReadyPose_deg[4] < 85, "kReadyPose_deg: off the singular J5 = +-90 deg");
 static_assert(kReadyPose_deg[2] < -5 || kReadyPose_deg[2] > 5, "kReadyPose_deg: off the singular sin q3 = 0");
 // joint-space moves (to the ready pose, to a stored pose): this fraction of each joint's limit
@@ -78,7 +78,7 @@ constexpr Ratio kJointMoveSpeed{1, 2};
 constexpr int16_t kArrivedTolerance_mdeg = 1000;  // DC joints; steppers arrive exactly
 
 // --- DC joints J2, J3, J4 (index 0, 1, 2 here)
-// Potentiometers (SPEC 4): the joint range spans 250..4750 mV of the 5 V ADC range, so an open
+// Potentiometers: the joint range spans 250..4750 mV of the 5 V ADC range, so an open
 // or shorted wiper (a rail) is told from any angle. Per-joint calibration in EEPROM overrides.
 constexpr int16_t kPotAtMin_mV = 250;
 constexpr int16_t kPotAtMax_mV = 4750;
@@ -131,7 +131,7 @@ constexpr bool kDcUseRelay = false;
 constexpr int16_t kRelayDeadZone_counts = 2;
 constexpr int16_t kRelayDuty_permille = 600;
 
-// Plausibility (SPEC 6): saturated drive without progress = stall; against the drive = sign
+// Plausibility: saturated drive without progress = stall; against the drive = sign
 // error; a reading jumping more than a joint can move = jump; near a rail = broken wiring
 constexpr int16_t kStallDuty_permille = 950;
 constexpr int16_t kStallTime_ms = 300;

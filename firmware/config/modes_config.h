@@ -1,5 +1,5 @@
 // The modes that a short press of the joystick button cycles through, and how the stick's
-// axes map to hand motion in each (SPEC section 5, seed 2). A mirrored mounting of the stick
+// axes map to hand motion in each (docs/arm-guide.md, using the arm; Torres's action planes). A mirrored mounting of the stick
 // is a sign change here.
 #pragma once
 

@@ -12,7 +12,7 @@
 namespace wmra {
 namespace config {
 
-// full stick deflection (SPEC section 5)
+// full stick deflection (docs/arm-guide.md, using the arm)
 constexpr Ratio kMaxHandSpeed_m_s{15, 100};
 constexpr Ratio kMaxWristSpeed_rad_s{80, 100};
 

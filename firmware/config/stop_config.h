@@ -1,4 +1,4 @@
-// The stop (SPEC 6): how each stepper joint comes to rest with its driver enabled, derived from
+// The stop (docs/arm-guide.md, safety): how each stepper joint comes to rest with its driver enabled, derived from
 // its motor's data and the load it carries; and what the firmware watches while the arm stands.
 //
 // A stopped stepper is held by its driver (IEC 60204-1 category 2): the arm stays where it
@@ -26,7 +26,7 @@ namespace config {
 // --- the steppers' motors and loads, J1, J5, J6 (index 0, 1, 2)
 // holding torque (datasheets: HT23-397 bipolar series 1.25 N m; 42HS48-1684 0.43 N m)
 constexpr int16_t kStepperHoldingTorque_mNm[3] = {1250, 430, 430};
-// rotor inertia, g cm^2 (not on the digest's datasheets: typical 56 mm NEMA 23, 48 mm NEMA 17;
+// rotor inertia, g cm^2 (not on the datasheets Torres's thesis gives: typical 56 mm NEMA 23, 48 mm NEMA 17;
 // measure or take the motor maker's figure)
 constexpr int16_t kStepperRotorInertia_gcm2[3] = {300, 68, 68};
 // The largest inertia each joint moves, about its axis (g m^2): J1 with the arm stretched
@@ -80,7 +80,7 @@ constexpr uint32_t kJ1StartStopInterval2_per_gm2_q8 =
     (uint32_t)(250000.0 * 250000.0 * 50.0 / (2.0 * kStepperHoldingTorque_mNm[0] * 1e-3 * kStopSpringOneLessCos * kJ1StepsPerRad *
                                                kJ1StepsPerRad * 1000.0) * 256.0 + 1);
 // J1's stop at the hand, within kStopTravel_mm; the DC joints, braking on their shorted motors,
-// take the rest of SPEC 6's 10 mm. Two things carry the hand on when J1's train stops:
+// take the rest of the stop's 10 mm. Two things carry the hand on when J1's train stops:
 //   - the load's speed: J1 decelerating with its whole holding torque (the stopped field's
 //     spring and the drive's damping come close to it in the simulator) stops within
 //     w^2 r / (2 T_hold gear / I) at the hand;
@@ -129,7 +129,7 @@ static_assert(kStopTorqueShare_permille >= 200 && kStopTorqueShare_permille <= 9
               "kStopTorqueShare_permille in [200, 900]: all of the holding torque is never there at speed");
 static_assert(kStandstillMove_mdeg >= 200 && kStandstillMove_mdeg <= 5000,
               "kStandstillMove_mdeg in [200, 5000]: above a pot's noise, below a visible move");
-static_assert(kStopTravel_mm >= 3 && kStopTravel_mm <= 10, "kStopTravel_mm in [3, 10]: SPEC 6's 10 mm less the DC joints' share");
+static_assert(kStopTravel_mm >= 3 && kStopTravel_mm <= 10, "kStopTravel_mm in [3, 10]: the stop's 10 mm less the DC joints' share");
 static_assert(kJ1LagTravel_um >= 200 && 4 * kJ1LagTravel_um <= kStopTravel_mm * 1000,
               "kJ1LagTravel_um in [200, kStopTravel_mm / 4]: the most of the stop's travel left to J1's speed");
 static_assert(kStandstillSettle_ms >= 10 && kStandstillSettle_ms <= 500, "kStandstillSettle_ms in [10, 500]");

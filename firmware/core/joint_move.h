@@ -1,4 +1,4 @@
-// A joint-space move (to the ready pose, to a stored pose: SPEC 5), governed like the stick.
+// A joint-space move (to the ready pose, to a stored pose), governed like the stick.
 //
 // The move is a straight line in joint space from the references where it starts to the
 // target: every joint's reference speed is its share of the line, ratio_j = delta_j / |delta_L|

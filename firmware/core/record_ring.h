@@ -1,4 +1,4 @@
-// A value that changes often (J6's angle at rest, SPEC 5) kept in EEPROM as a ring of small
+// A value that changes often (J6's angle at rest) kept in EEPROM as a ring of small
 // records: each save writes the next slot, so each slot takes one save in kSlots and the cells
 // wear kSlots times slower than one record rewritten in place. A record is 8 bytes:
 //

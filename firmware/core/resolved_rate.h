@@ -18,7 +18,7 @@
 //      at 3/4 of its acceleration limit a (joint_acceleration.h applies a, with the rest to
 //      spare): J1, at 0.5 rad/s^2, needs 37 deg to stop from its 0.8 rad/s.
 //   4. Joint speed limits. Every |s qd_j| <= allowed_j.
-// One common factor s satisfies all of them, so the hand keeps its direction (SPEC section 5);
+// One common factor s satisfies all of them, so the hand keeps its direction;
 // s only shrinks, and a joint that needs a division (1/|qd_j| from a table reciprocal) is
 // only one that s does not already satisfy.
 #pragma once

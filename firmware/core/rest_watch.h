@@ -1,4 +1,4 @@
-// When J6's angle is recorded (SPEC 5: written when J6 comes to rest, never in a loop): once J6
+// When J6's angle is recorded (written when J6 comes to rest, never in a loop): once J6
 // has stayed within band_steps of where it stopped for rest_ms while its count is its angle
 // (homed), if it stands at least min_change_steps from the angle last recorded. At rest means
 // within the band, not a count that does not change: a stepper held by its tracking loop may

@@ -1,4 +1,4 @@
-// The hand's commanded twist from the (shaped) stick deflection, by mode (SPEC section 5):
+// The hand's commanded twist from the (shaped) stick deflection, by mode (docs/arm-guide.md, using the arm):
 //   XY  stick +X -> base +x, stick +Y -> base +y
 //   XZ  stick +X -> base +x, stick +Y -> base +z
 //   R1  stick X -> rotation about y5, stick Y -> about z5

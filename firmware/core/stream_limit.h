@@ -1,4 +1,4 @@
-// The velocity stream's speed limits as lengths, as the stick's disc makes them (SPEC 5: full
+// The velocity stream's speed limits as lengths, as the stick's disc makes them (full
 // deflection is the hand's or the wrist's top speed, in any direction). Clamped axis by axis, a
 // host's (1, 1, 1) at the limit would move the hand at sqrt(3) times it. A vector longer than
 // its limit is scaled down, its direction kept, to within the limit.

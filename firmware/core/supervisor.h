@@ -1,11 +1,11 @@
-// The arm's top-level states (SPEC sections 5 and 6), as a pure state machine: inputs are
+// The arm's top-level states (docs/arm-guide.md, using the arm), as a pure state machine: inputs are
 // what the drivers and the other blocks report each control tick, outputs say what may move.
 //
 //   boot -> wait_neutral -> wait_home -> homing -> to_ready -> running
 //   any state -> stopped  while the safety button is pressed, or on a stop command (latched:
 //                         re-arm after release)
 //   any state -> fault    on a fault (latched: re-arm once the fault has cleared)
-// Nothing moves until the person asks (SPEC 5): after every reset the arm waits in wait_home,
+// Nothing moves until the person asks: after every reset the arm waits in wait_home,
 // drives off, until a long press of the joystick button or a home command starts the homing.
 // wait_home is entered only with the stick valid and neutral for kNeutralHold_ms and is left
 // for wait_neutral as soon as it is not, so an ask counts only with the stick at rest: a long
@@ -19,7 +19,7 @@
 // wait_neutral, so nothing moves until the stick has been seen neutral again; from there the
 // arm goes on only where its steppers are still homed (their counts are their angles: `homed`),
 // making again a move to the ready pose that a stop cut short (the arm runs only from the
-// ready pose's side of the singular home, SPEC 5); otherwise it waits in wait_home for the
+// ready pose's side of the singular home); otherwise it waits in wait_home for the
 // person again: a re-arm never starts a homing.
 // A home command in running stops the arm (drives off, wait_neutral) and homes it once the
 // stick has been neutral; a stop or a fault before the homing begins drops that request. A

@@ -1,4 +1,4 @@
-// J6's homing (SPEC 5), one decision per control tick. J6's zero switch closes once a turn,
+// J6's homing (docs/arm-guide.md, using the arm), one decision per control tick. J6's zero switch closes once a turn,
 // within edge_steps of each whole turn (0, +-360 deg), so J6's position alone does not tell its
 // turn: the homing goes by what the count is believed to be.
 //

@@ -1,4 +1,4 @@
-// The messages on the serial link (SPEC section 5, telemetry): what the firmware reports and
+// The messages on the serial link (docs/telemetry.md): what the firmware reports and
 // what a host may command, and their payloads. Every field goes on the wire little-endian,
 // byte by byte, in the order its message's fields() lists it: the same bytes on the AVR and
 // on the host, whatever either does with struct layout. docs/telemetry.md has the offsets.
@@ -25,7 +25,7 @@ enum class ReplyStatus : uint8_t { ok = 0, unknown_command = 1, bad_length = 2, 
 
 // BootMsg::calibration: where the firmware's calibration came from (bits 0..6), and in bit 7
 // whether J6's angle at rest was recorded (set: J6 homes to the turn it implies; clear: none was,
-// J6 homes by sweeps that take it to be within half a turn of 0, SPEC 5)
+// J6 homes by sweeps that take it to be within half a turn of 0)
 enum class Calibration : uint8_t { eeprom = 0, defaults_blank = 1, defaults_bad_crc = 2, defaults_other_version = 3 };
 constexpr uint8_t kBootJ6AngleRecorded = 0x80;
 

@@ -28,7 +28,7 @@ namespace wmra {
 namespace protocol {
 
 // A frame's bytes come back to back: a partial frame after this long without a byte is dropped
-// (SPEC 6), so that a sender that dies mid-frame cannot make the next sender's frames its tail.
+// so that a sender that dies mid-frame cannot make the next sender's frames its tail.
 constexpr uint8_t kByteGap_ms = 3;
 
 class Parser {

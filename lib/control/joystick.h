@@ -13,7 +13,7 @@
 //   2. rail check           a reading within rail_margin of 0 or full scale is a broken or
 //                           unplugged channel: it reads as neutral at once, and after
 //                           rail_ticks in a row latches a fault (flag) until the stick has
-//                           been valid and neutral again (SPEC 6: no motion until valid and
+//                           been valid and neutral again (no motion until valid and
 //                           neutral). Full deflection must stay inside the margins (hardware);
 //   3. normalise            per side of the centre, so that each full deflection is 1: the
 //                           last reading before the rail margin, or full_deflection counts

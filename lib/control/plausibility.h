@@ -1,4 +1,4 @@
-// Plausibility checks on a DC joint, which the firmware turns into faults (SPEC 6): fed once
+// Plausibility checks on a DC joint, which the firmware turns into faults: fed once
 // per sample with the duty it applied and the position it read, it raises latched flags for
 //   stall       the drive is at or above drive_threshold (saturated; or at the caller's bound
 //               below it, set_drive_bounds) for stall_samples and the joint has not moved

@@ -1,18 +1,18 @@
 // Host-side design helper (double, std): seed 1's pole placement of rank-1 PD and PID output
-// feedback for a linearised model (Seraji's method, seed1-digest 3.3-3.4), and its use for a
+// feedback for a linearised model (Seraji's method; Miranda's thesis, sections 3.3-3.4), and its use for a
 // DC joint. Not for the AVR.
 //
 // Method. For x' = A x + B u, y = C x, the PD law u = P (v - y) - R y' with the rank-1 gains
 // P = p k, R = r k (p, r: m x 1, k: 1 x l chosen) gives the closed-loop polynomial
 //     H(s) = F(s) + k W(s) (p + s r),   F = det(sI - A),  W(s) = C adj(sI - A) B,
 // linear in (p, r): matching H = (1 + k M1 r) D(s) with the wanted D(s) coefficient by
-// coefficient gives n equations in 2m unknowns (seed1-digest, structure 2; square when
+// coefficient gives n equations in 2m unknowns (square when
 // n = 2m). For the PID law u = P e + Q z - R y', z = integral of e, the system is augmented
 // with z (A1* = [[A, B Qhat], [-C, 0]], Qhat full rank, pre-applied), K*(s) = (p + q/s + r s) k,
 // H(s) = F*(s) + k W*(s) (p + q/s + r s), n + l equations in 3m unknowns; the integral gain is
 // Q = Qhat + q k. F and adj(sI - A) come from the Faddeev-LeVerrier recursion.
 //
-// Errata (seed1-digest 3.4, 7): the printed PID design of Annex c has sign errors in F*(s), a
+// Errata (Miranda's thesis, section 3.4): the printed PID design of Annex c has sign errors in F*(s), a
 // W*(s) that does not match its A1*, a P row that does not solve its own equations, and gains
 // that put closed-loop poles at 4.11 +- 4.76j and 0.17 +- 4.15j: unstable. This helper
 // reproduces the method; test_pole_placement checks that its gains put the poles where asked

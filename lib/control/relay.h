@@ -1,7 +1,7 @@
 // Seed 1's sampled relay with a dead zone (three-level on-off control), the configurable
 // alternative to the PID for a DC joint.
 //
-// The law (seed1-digest 4.2, eq. 4.8), with E' the dead-zone half-width ("maximum allowed
+// The law (Miranda's thesis, chapter 4, eq. 4.8), with E' the dead-zone half-width ("maximum allowed
 // error"), sampled every period and held until the next sample:
 //     H = +1 if E >= E',  0 if |E| < E',  -1 if E <= -E'
 // and the duty is H times the drive amplitude. E' = 0 is the ideal on-off relay; at E = 0 its
@@ -9,7 +9,7 @@
 // hysteresis and lists it as future work; hysteresis_counts > 0 keeps the drive on until |E|
 // falls below E' - h (default 0: the thesis's law, stateless). The thesis analyses it on
 // G(s) = K_m / (s (tau s + 1)) (K_m = 2.4 rad/(V s), tau = 0.255 s); its printed velocity
-// solution (4.22, 4.24) is wrong, the corrected sample map is in seed1-digest 4.3 and in
+// solution (4.22, 4.24) is wrong, the corrected sample map is in
 // test_relay_button, which checks the relay on it: an on-off relay limit-cycles about the target, a
 // wide enough dead zone settles inside +-E'.
 // Integer only: the error is a 32-bit difference of position units; the duty is Q15.

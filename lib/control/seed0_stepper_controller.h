@@ -2,11 +2,11 @@
 // (behind a reducer with backlash): the position error becomes a rate-limited, saturated speed
 // command for the step generator. One update per control period dt.
 //
-// The law (seed0-digest 3.2, eqs. 4.2-4.4):
+// The law (Cardozo's thesis, section 4.2, eqs. 4.2-4.4):
 //     V_PD(k) = K_P e(k) + K_D (e(k) - e(k-1)) / dt
 //     V_C(k)  = clamp(V_PD, V_C(k-1) - alpha dt, V_C(k-1) + alpha dt)   (the rule base)
 //     V_C(k)  = clamp(V_C(k), -V_S, V_S)                                  (saturation)
-// Two variants (seed0-digest 3.3 and 3.5):
+// Two variants (Cardozo's thesis, chapter 4 and Appendix A):
 //   thesis    exactly the above;
 //   firmware  the joint-1 PIC firmware of Appendix A: |e| <= deadband gives 0 (anti-chatter),
 //             |e| <= near gives K_P,near e (low gain at the target, against backlash limit
@@ -22,10 +22,10 @@
 // This port keeps a fixed period (the PIC's period varied with the speed). Feed V_C to a StepRamp
 // whose acceleration limit is at least alpha, so the step train follows the command.
 //
-// Constants (seed0-digest 3.4): alpha by test (raise until steps are lost, keep the last good
+// Constants (Cardozo's thesis, section 4.3): alpha by test (raise until steps are lost, keep the last good
 // one), V_S from the torque-speed curve, and K_P from symmetric braking: braking from V_S at
 // alpha needs e_0 = V_S^2 / (2 alpha) (4.8), and the PD reaches V_S at e_0 = V_S (1 + K_D)/K_P
-// (4.10), so K_P = 2 alpha (1 + K_D) / V_S, about 2 alpha / V_S (4.12). The digest prints
+// (4.10), so K_P = 2 alpha (1 + K_D) / V_S, about 2 alpha / V_S (4.12). The thesis prints
 // (4.11) as (1 + K_D)/K_P = 2 alpha/V_S, which is inverted; 4.8, 4.10 and 4.12 agree with the
 // form used here (seed0_kp_q8, checked in test_seed0_controller).
 #pragma once

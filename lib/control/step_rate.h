@@ -134,7 +134,7 @@ constexpr MoveSpeed move_speed(const StepRateConstants& k, uint32_t speed_steps_
   return MoveSpeed{q8, c * (c + dv_steps_s_of(k, (int32_t)k.dv_q8_per_tick)) / k.two_a + 1};
 }
 
-// A ramp's stop (SPEC 6): a train whose interval is at least the start/stop interval (at or below
+// A ramp's stop: a train whose interval is at least the start/stop interval (at or below
 // the start/stop rate) ends at once: the motor's magnetic spring takes the rotor and its load
 // from that speed to rest; a faster one slows at the stop's deceleration first
 // (firmware/config/stop_config.h derives both from the motor and its load).

@@ -1,8 +1,8 @@
 // Every number of the virtual arm, in one place, with its unit in its name and its source.
 //
-// Sources: "digest X" = /work/shared/reference/seed2-digest.md section X (the thesis's tables and
-// datasheets); "SPEC" = SPEC.md; "datasheet" = the part's public datasheet. ASSUMPTION marks a
-// number that none of them gives: a plausible value, chosen here, that a measurement on the real
+// Sources: "Torres" = R. A. Torres, Instrumentação e controle de braço robótico para deficientes
+// (UnB, 2020), its tables and the datasheets of its Annex II; "datasheet" = the part's public
+// datasheet. ASSUMPTION marks a number that none of them gives: a plausible value, chosen here, that a measurement on the real
 // arm should replace.
 //
 // Conventions the firmware must share (they are the wiring of the virtual arm):
@@ -13,7 +13,7 @@
 //     the angle, so that an open or shorted wiper (0 mV or 5000 mV, a rail) is told apart from
 //     any real angle;
 //   - joystick axes: centre ~2.5 V, full deflection +-2.25 V (stick +X, +Y = higher voltage);
-//   - limit switches close at the joint limit (SPEC 4); a hard stop 3 deg further stops the joint.
+//   - limit switches close at the joint limit; a hard stop 3 deg further stops the joint.
 #pragma once
 
 #include <cstdint>
@@ -30,47 +30,47 @@ constexpr double rpm(double r) { return r * 2.0 * kPi / 60.0; }
 constexpr int kJoints = 6;
 
 // --- supply and converter
-constexpr double kBatteryV = 12.0;   // digest 2.1: 12 V battery for motors and drivers
+constexpr double kBatteryV = 12.0;   // Torres: 12 V battery for motors and drivers
 constexpr double kAdcRefMv = 5000;   // AVcc of the Mega, the ADC reference
 constexpr double kLogicHighMv = 5000;
 
-// --- gear reductions joint:motor, SPEC 4 (digest 1.3 with the thesis's fixes for J2, J3, J5)
+// --- gear reductions joint:motor (Torres, with his fixes for J2, J3, J5)
 constexpr double kGearRatio[kJoints] = {2.0, 4.5, 2.5, 2.0, 10.0, 1.0};
 
-// --- DC joints 2..4: Mabuchi JC/LC-578VA-4720 power-window motor (digest 1.2, Annex II)
+// --- DC joints 2..4: Mabuchi JC/LC-578VA-4720 power-window motor (Torres, Table 3.1, Annex II)
 // The datasheet's 9.12 N m stall torque is at the output of the motor's built-in worm gear (no
 // bare 578-size motor makes 9 N m), so the model is the motor-and-worm assembly, seen at that
 // output shaft, followed by the joint's own 1:N gear.
-constexpr double kDcStallTorqueNm = 9.12;  // digest 1.2
-constexpr double kDcStallCurrentA = 24.0;  // digest 1.2
-constexpr double kDcNominalV = 12.0;       // digest 1.2
+constexpr double kDcStallTorqueNm = 9.12;  // Torres, Table 3.1
+constexpr double kDcStallCurrentA = 24.0;  // Torres, Table 3.1
+constexpr double kDcNominalV = 12.0;       // Torres, Table 3.1
 constexpr double kDcNoLoadSpeedRadS = rpm(85);  // ASSUMPTION: typical 12 V power-window motor output speed
 // inertia of the rotor seen through the worm plus the worm wheel, at the assembly output
 constexpr double kDcAssemblyInertiaKgm2 = 0.05;  // ASSUMPTION
 // Friction at the assembly output. The breakaway torque sets the PWM dead band: 1.0 N m of 9.12
-// is 11 % duty, close to the 30/255 dead zone seed 2 found on its test motor (digest 3.6).
-constexpr double kDcStaticFrictionNm = 1.0;    // ASSUMPTION (from the digest 3.6 dead zone)
+// is 11 % duty, close to the 30/255 dead zone of Torres's firmware on its test motor.
+constexpr double kDcStaticFrictionNm = 1.0;    // ASSUMPTION (from Torres's 30/255 dead zone)
 constexpr double kDcCoulombFrictionNm = 0.8;   // ASSUMPTION
 constexpr double kDcViscousNmPerRadS = 0.02;   // ASSUMPTION
-// A power-window worm gear does not back-drive (digest 6.2: "usually worm-geared and
-// self-locking"): the load never drives the motor; unpowered, the joint holds.
-constexpr bool kDcSelfLocking = true;          // ASSUMPTION (digest 6.2 [V, inference])
+// A power-window worm gear does not back-drive (such motors are usually worm-geared and
+// self-locking): the load never drives the motor; unpowered, the joint holds.
+constexpr bool kDcSelfLocking = true;          // ASSUMPTION (an inference, not in Torres)
 
-// --- stepper joints 1, 5, 6 (digest 1.2, Annex II; DRV8825 digest 2.4)
-constexpr int kFullStepsPerRev = 200;   // 1.8 deg motors, digest 1.2
-constexpr int kMicrosteps = 32;         // DRV8825 mode pins tied high = 1/32 (digest 2.4, SPEC 4)
+// --- stepper joints 1, 5, 6 (Torres, Table 3.1, Annex II; DRV8825 as in Torres)
+constexpr int kFullStepsPerRev = 200;   // 1.8 deg motors, Torres, Table 3.1
+constexpr int kMicrosteps = 32;         // DRV8825 mode pins tied high = 1/32 (Torres)
 constexpr int kRotorPolePairs = 50;     // 200 full steps = 50 electrical periods of 4 full steps
 constexpr int kMicrostepsPerElectricalPeriod = 4 * kMicrosteps;  // a lost "step" slips this many
 
 struct StepperMotorData {
-  double holding_torque_nm;   // datasheet, digest 1.2
-  double rated_current_a;     // per phase, digest 1.2
-  double inductance_h;        // per phase, digest 1.2
+  double holding_torque_nm;   // datasheet, Torres, Table 3.1
+  double rated_current_a;     // per phase, Torres, Table 3.1
+  double inductance_h;        // per phase, Torres, Table 3.1
   double detent_torque_nm;
   double rotor_inertia_kgm2;
 };
 // HT23-397, bipolar series (1.41 A, 10 mH, 177 oz-in = 1.25 N m). Rotor inertia and detent
-// torque are not in the digest: ASSUMPTION (typical 56 mm x 76 mm NEMA 23).
+// torque are not in Torres: ASSUMPTION (typical 56 mm x 76 mm NEMA 23).
 constexpr StepperMotorData kNema23Ht23_397 = {1.25, 1.41, 0.010, 0.04, 3.0e-5};
 // 42HS48-1684 (1.68 A, 2.8 mH, 4.4 kg cm = 0.43 N m, detent 260 g cm). Rotor inertia ASSUMPTION
 // (typical 48 mm NEMA 17).
@@ -90,7 +90,7 @@ constexpr double corner_speed_rad_s(const StepperMotorData& m) {
 constexpr double kStepperDampingRatio = 0.3;        // ASSUMPTION
 constexpr double kStepperStaticFrictionNm = 0.01;   // ASSUMPTION, at the motor (bearings, gear)
 constexpr double kStepperCoulombFrictionNm = 0.008; // ASSUMPTION
-// J5's 1:10 stage (digest 1.3: "a continuous gear train or a planetary gearbox") is taken as
+// J5's 1:10 stage (Torres: "a continuous gear train or a planetary gearbox") is taken as
 // self-locking like the DC joints, so that the wrist holds when the driver is disabled.
 // Set false to see what a back-drivable gearbox does under the e-stop (EN high).
 constexpr bool kJ5SelfLocking = true;  // ASSUMPTION
@@ -100,7 +100,7 @@ constexpr double kDrvStepMinHighS = 1.9e-6;
 constexpr double kDrvStepMinLowS = 1.9e-6;
 constexpr double kDrvDirSetupS = 650e-9;
 
-// --- mass properties (digest 1.6, Table 3.4: r_CM in the link's own frame, m, inertia rows)
+// --- mass properties (Torres, Table 3.4: r_CM in the link's own frame, m, inertia rows)
 struct LinkMass {
   double r_cm_m[3];
   double mass_kg;
@@ -114,7 +114,7 @@ constexpr LinkMass kLinks[kJoints] = {
     {{0.0, 0.091, 0.0}, 0.537, {{0.002, 0, 0}, {0, 0, 0}, {0, 0, 0.002}}},
     {{0, 0, 0}, 0.0, {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}},
 };
-// payload: 1.2 kg at 10 cm from the output shaft along z6 (digest 1.3, the thesis's load case)
+// payload: 1.2 kg at 10 cm from the output shaft along z6 (Torres's load case, Table 3.5)
 constexpr double kPayloadKg = 1.2;
 constexpr double kPayloadOffsetM = 0.10;
 constexpr double kPayloadGyrationRadiusM = 0.03;  // ASSUMPTION: a 6 cm object, for J6's inertia
@@ -124,22 +124,22 @@ constexpr double kGravityMs2 = 9.81;              // base z points up (d1 is the
 constexpr double kHardStopBeyondLimitRad = deg(3);  // ASSUMPTION: mechanical stop past each switch
 
 // --- sensors
-// Potentiometer chain (digest 2.5/2.6): 10-turn pot, amplifier gain set per joint, RC low-pass
-// tau = 1 ms, clamp at 5.1 V. Here the joint range spans 5 %..95 % of the ADC range (SPEC 4:
+// Potentiometer chain (Torres's sensor board): 10-turn pot, amplifier gain set per joint, RC low-pass
+// tau = 1 ms, clamp at 5.1 V. Here the joint range spans 5 %..95 % of the ADC range (
 // "conditioned so the joint range spans the ADC range"; the margins keep the rails for faults).
 constexpr double kPotLowMv = 250;   // at q_min; ASSUMPTION (margin for fault detection)
 constexpr double kPotHighMv = 4750; // at q_max
-constexpr double kPotFilterTauS = 1e-3;  // digest 2.6: RC low-pass tau = 1 ms
+constexpr double kPotFilterTauS = 1e-3;  // Torres's sensor board: RC low-pass tau = 1 ms
 constexpr double kPotNoiseMv = 1.5;      // ASSUMPTION: ~0.3 LSB rms at the ADC
 constexpr double kPotOpenMv = 0;         // wiper open: the follower input is pulled to ground
 constexpr double kPotShortMv = 5000;     // wiper shorted to the supply (clamped at the rail)
 
-// Limit switch channel (digest 2.6): RC debounce 47 kOhm x 1 uF = 47 ms, then an op-amp follower
-// and the PC817 optocoupler (digest 2.7): the Mega reads low while the switch is closed.
+// Limit switch channel (Torres's sensor board): RC debounce 47 kOhm x 1 uF = 47 ms, then an op-amp follower
+// and the PC817 optocoupler (Torres's control board): the Mega reads low while the switch is closed.
 constexpr double kLimitSwitchTauS = 0.047;
 constexpr double kZeroSwitchHalfWidthRad = deg(2);  // ASSUMPTION: J6's zero cam, +-2 deg each turn
 
-// Joystick KY-023 through the board's amplifiers (digest 2.7/2.8)
+// Joystick KY-023 through the board's amplifiers (Torres's control board)
 constexpr double kStickCentreMv = 2500;
 constexpr double kStickFullScaleMv = 2250;                    // ASSUMPTION: 5 %..95 %, rails = fault
 constexpr double kStickCentreOffsetMv[2] = {25.0, -15.0};     // ASSUMPTION: X, Y centre errors

@@ -1,5 +1,5 @@
 // Gravity and inertia of the seed-2 arm about each joint axis, from the CAD mass properties
-// (digest 1.6) and the payload, in the modified-DH frames of lib/kinematics.
+// (Torres, Table 3.4) and the payload, in the modified-DH frames of lib/kinematics.
 #pragma once
 
 #include <array>

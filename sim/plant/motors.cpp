@@ -23,7 +23,7 @@ void DcJoint::set_angle(double q_rad) {
 }
 
 // The assembly's torque-speed line through the datasheet's stall point and the no-load speed,
-// scaled with the applied voltage (L ~ 0: first order, digest 3.6 Eq. 2.11).
+// scaled with the applied voltage (L ~ 0: first order, Torres, Eq. 2.11).
 double DcJoint::motor_torque_nm() const {
   return kDcStallTorqueNm * (voltage_v_ / kDcNominalV - s_.speed_rad_s / kDcNoLoadSpeedRadS);
 }

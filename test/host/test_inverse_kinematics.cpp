@@ -1,7 +1,7 @@
 // Inverse kinematics round trips in the IKFast style: for 10,000 seeded random poses within
 // the joint limits, the generating joint angles must be among the solutions (no missed
 // solution) and every solution must reproduce the pose (no wrong solution). The fixed-point
-// instantiation must put the hand within 0.5 mm of the target (SPEC section 8).
+// instantiation must put the hand within 0.5 mm of the target.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -63,7 +63,7 @@ TEST(InverseKinematicsDouble, DigestTestVectorHasBothElbows) {
     if (std::abs(s[1] + 0.2) < 2e-3 && std::abs(s[2] - 0.5) < 2e-3 && std::abs(s[3] - 0.4) < 2e-3) flipped = true;
   }
   EXPECT_TRUE(up);
-  EXPECT_TRUE(flipped);  // (0.4, -0.2, 0.5, 0.4, 0.7, 0.2) in the digest, to its printed digits
+  EXPECT_TRUE(flipped);  // (0.4, -0.2, 0.5, 0.4, 0.7, 0.2) the test vector's other elbow, to its printed digits
 }
 
 TEST(InverseKinematicsDouble, UnreachableAndDegeneratePosesSaySo) {

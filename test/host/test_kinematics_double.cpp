@@ -109,7 +109,7 @@ TEST(InverseJacobianDouble, WristAxesEntryMatchesEigen) {
   EXPECT_LT(worst_turned, 1e-9);
 }
 
-// The thesis's test vector, recomputed from the correct Jacobian (seed2-digest appendix)
+// The thesis's test vector, recomputed from the correct Jacobian (column 5's signs fixed)
 TEST(InverseJacobianDouble, DigestTestVector) {
   const ref::Joints q = {0.4, 0.3, -0.5, 0.9, 0.7, 0.2};
   const ref::Mat6 j = ref::geometric_jacobian(q);

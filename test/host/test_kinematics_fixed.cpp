@@ -1,4 +1,4 @@
-// The firmware's fixed-point instantiation against the Eigen reference (SPEC section 8):
+// The firmware's fixed-point instantiation against the Eigen reference:
 // FK within 0.2 mm and 1 mrad, J^-1 within 1e-3 relative away from singularities, and
 // bounded, continuous joint velocities through each singular factor.
 #include <gtest/gtest.h>

@@ -88,7 +88,7 @@ std::vector<uint8_t> bytes_of(const char* hex) {
 
 // Floods of 100 ms, a stop at once after each and one after 50 ms of silence. Random bytes, a
 // frame cut short, repeated, and frames that say 64 bytes and bring 14 are read as they come,
-// nothing lost: the stop is obeyed within 10 ms (SPEC 6). (The last needs 43 steps a tick: with
+// nothing lost: the stop is obeyed within 10 ms. (The last needs 43 steps a tick: with
 // 32, as many steps as bytes, 132 bytes were lost.) A flood made for the rescan (the worst of
 // a search over short patterns) outruns the budget by far, and the stop sent straight after it
 // is lost with its bytes. After any of them, once the line has been quiet a while, a stop is

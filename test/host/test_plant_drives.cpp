@@ -174,7 +174,7 @@ TEST(StepperJoint, CornerSpeedsFromTheWindingData) {
 TEST(StepperJoint, FollowsAStepTrainWithinItsTorque) {
   const auto loads = joint_loads({0, 0.5, 0.5, 0, 0.3, 0}, true, true);
   for (int j : kStepperJoints) {
-    const Ramp r{0.5 * max_accel(j, loads.inertia_kgm2[j]), 20000};  // 20 kHz, SPEC 8
+    const Ramp r{0.5 * max_accel(j, loads.inertia_kgm2[j]), 20000};  // 20 kHz, the step rate's gate
     const StepperJoint s = run_ramp(j, r, 3.0, loads.inertia_kgm2[j], 0);
     EXPECT_EQ(s.microsteps_lost(), 0) << "J" << j + 1;
     EXPECT_NEAR(s.q(), s.q_commanded(), 0.02) << "J" << j + 1;

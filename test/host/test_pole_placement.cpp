@@ -106,7 +106,7 @@ TEST(PolePlacement, RankOnePdPutsThePolesWhereAsked) {
   std::printf("PD: p = (%.2f, %.2f), r = (%.2f, %.2f)\n", d.p[0], d.p[1], d.r[0], d.r[1]);
   const std::vector<cd> poles = eigenvalues(closed_loop_pd(m.a, m.b, m.c, d.P, d.R));
   EXPECT_LT(worst_match(poles, damping_roots({{1.2, 5}, {0.886, 8}})), 1e-8);
-  // on the thesis's rounded model, the digest's exact solution of the same equations:
+  // on the thesis's rounded model, the exact solution of the same equations:
   // p = (-848.67, 80.79), r = (258.66, 125.84) (the gains are sensitive to that rounding)
   const Model mp = manutec_printed();
   const PdDesign dp = place_pd_rank1(mp.a, mp.b, mp.c, {1, 1}, want);
@@ -135,7 +135,7 @@ TEST(PolePlacement, RankOnePidPutsThePolesWhereAskedAndThePrintedGainsAreUnstabl
               d.r[1]);
   const std::vector<cd> poles = eigenvalues(closed_loop_pid(m.a, m.b, m.c, d.P, d.Q, d.R));
   EXPECT_LT(worst_match(poles, damping_roots(zo)), 1e-6);
-  // on the rounded model, the digest's solution: p = (-53.63, 169.22), q = (61661.2, 712.64),
+  // on the rounded model, the exact solution: p = (-53.63, 169.22), q = (61661.2, 712.64),
   // r = (3811.71, 1178.45)
   const Model mp = manutec_printed();
   const PidDesign dp = place_pid_rank1(mp.a, mp.b, mp.c, {1, 1}, Matrix::identity(2), want);

@@ -294,7 +294,7 @@ TEST(Parser, AByteLostCostsOnlyItsFrame) {
   EXPECT_EQ(p.crc_errors(), 1);
 }
 
-// SPEC 6's half frame (issue 30, finding 7): a host that dies mid-frame leaves a velocity
+// The half frame (issue 30, finding 7): a host that dies mid-frame leaves a velocity
 // command cut after 3 of its 12 payload bytes; the next host sends stop frames.
 const std::vector<uint8_t> kHalfFrame = {0xA5, 0x02, 0x17, 0x05, 0x0C, 0x32, 0x00, 0x00};
 std::vector<uint8_t> stop_frame(uint8_t seq) { return frame_bytes((uint8_t)MsgType::cmd_stop, seq, {}); }

@@ -37,10 +37,10 @@ TEST(Relay, ThreeLevelLaw) {
   EXPECT_EQ(r.level(1000, -1000), 1);  // kept the last good configuration
 }
 
-// The sampled loop of seed1-digest 4.3 on G(s) = K_m / (s (tau s + 1)), K_m = 2.4 rad/(V s),
+// The sampled loop of Miranda's thesis, chapter 4, on G(s) = K_m / (s (tau s + 1)), K_m = 2.4 rad/(V s),
 // tau = 0.255 s, with the exact (corrected) sample map, 5 V drive, 2260 counts per turn:
 // an on-off relay keeps oscillating about the target; a dead zone that is wide enough for the
-// sample rate (digest: E' >~ 2 K_m U T / pi) stops inside +-E'; faster sampling oscillates less.
+// sample rate (E' >~ 2 K_m U T / pi, twice the describing function's bound) stops inside +-E'; faster sampling oscillates less.
 namespace {
 struct Outcome {
   double late_swing_counts;  // peak-to-peak over the last second
@@ -74,7 +74,7 @@ Outcome relay_run(int32_t dead_zone_counts, double fs_hz) {
 
 TEST(Relay, OnOffLimitCyclesAndADeadZoneSettles) {
   const Outcome on_off = relay_run(0, 188);
-  const Outcome dz = relay_run((int32_t)(4.5 / 360 * 2260 * 1.2), 188);  // 4.5 deg (digest table, 5 V, 188 Hz) + 20 %
+  const Outcome dz = relay_run((int32_t)(4.5 / 360 * 2260 * 1.2), 188);  // 4.5 deg (a simulation of the corrected map, 5 V, 188 Hz) + 20 %
   const Outcome on_off_fast = relay_run(0, 3000);
   std::printf("188 Hz on-off: swing %.1f counts; dead zone: error %.1f counts, at rest %d; 3 kHz on-off: swing %.1f\n",
               on_off.late_swing_counts, dz.final_error_counts, dz.at_rest, on_off_fast.late_swing_counts);

@@ -1,7 +1,7 @@
 // Seed 0's closed-loop stepper controller (lib/control/seed0_stepper_controller.h): the PD
 // command, the rule base, saturation, the firmware's deadband / near-target gain / minimum
 // speed / reversal, 32-bit arithmetic where the original overflowed, the gain estimate, and the
-// thesis's 250-count step (seed0-digest 3.4, 6).
+// thesis's 250-count step (Cardozo's thesis, section 4.3 and chapter 7).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -174,7 +174,7 @@ TEST(Seed0Controller, NoSixteenBitOverflow) {
   }
 }
 
-// seed0-digest 3.4: K_P = 2 alpha (1 + K_D) / V_S; with it the PD reaches V_S exactly at the
+// Cardozo's thesis, section 4.3: K_P = 2 alpha (1 + K_D) / V_S; with it the PD reaches V_S exactly at the
 // braking distance V_S^2 / (2 alpha) (4.8 = 4.10)
 TEST(Seed0Controller, GainEstimateFromSymmetricBraking) {
   EXPECT_EQ(seed0_kp_q8(5000, 1000, Ratio{2, 100}), 2611);  // 10.2 in Q8
@@ -185,7 +185,7 @@ TEST(Seed0Controller, GainEstimateFromSymmetricBraking) {
   const double e0_braking = vs * vs / (2 * alpha);  // 4.8
   const double e0_pd = vs * (1 + kd) / kp;          // 4.10
   EXPECT_NEAR(e0_pd / e0_braking, 1.0, 1e-3);
-  // the digest's printed 4.11, (1 + K_D)/K_P = 2 alpha / V_S, would give K_P = 0.102: wrong
+  // the thesis's printed 4.11, (1 + K_D)/K_P = 2 alpha / V_S, would give K_P = 0.102: wrong
   EXPECT_GT(std::abs((1 + kd) / (2 * alpha / vs) - kp), 10.0);
 }
 

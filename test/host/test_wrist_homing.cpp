@@ -156,7 +156,7 @@ double nearest_turn_deg(double deg) {
 // J6's range, and a step of the count's rounding
 constexpr double kRangeDeg = 360 + 360.0 / kTurn;
 
-// SPEC 5: with J6's angle recorded, from any start within its range the homing rolls J6 at most
+// With J6's angle recorded, from any start within its range the homing rolls J6 at most
 // 190 deg, ends on the switch of the turn that angle implies and knows the true angle.
 TEST(WristHoming, FromARecordedAngleRollsAtMost190DegToItsTurn) {
   double largest = 0;
@@ -192,7 +192,7 @@ TEST(WristHoming, WithoutARecordedAngleSweepsToZero) {
     if (std::fabs(start) <= 20) largest_within_20 = std::max(largest_within_20, r.rolled_deg);
   }
   std::printf("no recorded angle: the largest roll %.1f deg, within 20 deg of 0 %.1f deg\n", largest, largest_within_20);
-  EXPECT_LE(largest_within_20, 120) << "SPEC 5: from 20 deg off, at most about 120 deg in all";
+  EXPECT_LE(largest_within_20, 120) << "from 20 deg off, at most about 120 deg in all";
 }
 
 // J6 at rest on its cam, at its very edge or anywhere on it, with each belief. (At the very

@@ -5,7 +5,7 @@
 // duty and state for the same inputs. Its gain, measured with armsim on scenarios/demo.txt,
 // moves-to-a-pose.txt and profile.txt against the C path at -O3: about 200 cycles per control
 // iteration (CPU load 1.1 to 1.4 points lower), the worst iteration unchanged; it stays while
-// SPEC 8's CPU gate under the worst load needs it.
+// The CPU gate (docs/performance.md) under the worst load needs it.
 // Included by dc_servo.h on the AVR only.
 #pragma once
 

@@ -28,7 +28,7 @@ TEST_F(AvrBench, FixedInverseJacobianIsFiveTimesFasterThanFloat) {
   EXPECT_GE(flt.mean / fixed.mean, 5.0);
 }
 
-// SPEC section 8: forward kinematics (pose of frame 6 from the joint angles) <= 2,500 cycles,
+// The gate (docs/performance.md): forward kinematics (pose of frame 6 from the joint angles) <= 2,500 cycles,
 // gated on the worst case over the pose set
 TEST_F(AvrBench, FixedForwardKinematicsWithinBudget) {
   const Timing fk = get("fk_fixed");
@@ -37,7 +37,7 @@ TEST_F(AvrBench, FixedForwardKinematicsWithinBudget) {
   EXPECT_LE(fk.max, 2500);
 }
 
-// SPEC section 8: inverse kinematics, all branches, <= 15,000 cycles (worst case over the set)
+// The gate (docs/performance.md): inverse kinematics, all branches, <= 15,000 cycles (worst case over the set)
 TEST_F(AvrBench, FixedInverseKinematicsWithinBudget) {
   const Timing ik = get("ik_fixed");
   ASSERT_GT(ik.max, 0);
@@ -45,7 +45,7 @@ TEST_F(AvrBench, FixedInverseKinematicsWithinBudget) {
   EXPECT_LE(ik.max, 15000);
 }
 
-// SPEC section 8: the inverse Jacobian from the joint angles (its sines and cosines included)
+// The gate (docs/performance.md): the inverse Jacobian from the joint angles (its sines and cosines included)
 // <= 3,000 cycles, gated on the worst case over the pose set
 TEST_F(AvrBench, FixedInverseJacobianWithinBudget) {
   const Timing jinv = get("jinv_fixed");

@@ -157,7 +157,7 @@ struct Rig {
     }
     return -1;
   }
-  // SPEC 5: after power-up and every reset nothing moves until the person asks. This asks as the
+  // After power-up and every reset nothing moves until the person asks. This asks as the
   // person does: it waits for wait_home (the stick neutral for the hold), presses the button
   // long (no reply for a test to count) and runs until the arm runs from the ready pose, at most
   // until t_max_s; the time, or -1.

@@ -1,5 +1,5 @@
 # cmake -DAVR_NM=... -DELF=... -P flash_layout.cmake
-# SPEC 8: the image within the chip's lower 128 KB, so that every code address fits a 16-bit word
+# The image within the chip's lower 128 KB, so that every code address fits a 16-bit word
 # pointer (avr-gcc's indirect calls and switch tables use eicall/eijmp with EIND 0: no far calls,
 # no EIND trampolines), and PROGMEM within the lower 64 KB, where pgm_read_* (LPM through a 16-bit
 # Z) reaches. avr-libc's linker script places PROGMEM right after the vectors and the trampolines

@@ -1,4 +1,4 @@
-// SPEC 9's acceptance scenarios S4, S6, S8 and S9: the firmware ELF against the virtual arm.
+// The acceptance scenarios (docs/design.md) S4, S6, S8 and S9: the firmware ELF against the virtual arm.
 // What the firmware says comes from its telemetry; whether the arm moved, and whether a limit
 // switch closed, from the plant (true joint angles, the switch contacts).
 #include <gtest/gtest.h>
@@ -201,7 +201,7 @@ INSTANTIATE_TEST_SUITE_P(AcceptanceScenarios, S6,
                            return "J" + std::to_string(i.param.joint + 1);
                          });
 
-// A limit switch still closed when the arm is re-armed: SPEC 6's "motion into the switch stops
+// A limit switch still closed when the arm is re-armed: the rule "motion into the switch stops
 // at once" holds then too. J4's pot reads 10 deg low (a pot slipped on its shaft; here a
 // calibration shifted by command), so its soft stop lies past its switch: driven up, J4 closes
 // the switch (limit_unexpected), the person re-arms and pushes on the same way. The switch,
@@ -348,7 +348,7 @@ TEST(AcceptanceScenarios, S8JoystickUnpluggedStopsAndNeedsNeutral) {
   EXPECT_LE(replug_mm, settle_mm + 1.0);
   EXPECT_EQ(rig.last().stick_permille[0], 0);
   // through neutral (for kStickNeutral_ms of control iterations: twice that time, as the loop
-  // runs at 800 Hz, not yet the 1 kHz of SPEC 8): it drives again
+  // runs at 800 Hz, not yet the loop's 1 kHz): it drives again
   rig.sim.set_joystick(0.0, 0.0);
   const double t_neutral = t_unplug + 2.0 + 2 * config::kStickNeutral_ms / 1000.0;
   rig.run_to(t_neutral);
@@ -359,7 +359,7 @@ TEST(AcceptanceScenarios, S8JoystickUnpluggedStopsAndNeedsNeutral) {
   EXPECT_GT(distance_mm(rig.pose().p, rearmed.p), 20.0) << "the stick drives again after neutral";
 }
 
-// S8, pot: J3's wiper open (0 V) while the arm holds still: the arm is held (SPEC 6), j3_rail is
+// S8, pot: J3's wiper open (0 V) while the arm holds still: the arm is held, j3_rail is
 // reported, nothing moves or is driven, also with the stick deflected and through a re-arm
 // while the wire is still open; with the wire mended, a re-arm brings it back to running.
 TEST(AcceptanceScenarios, S8PotOpenWireStopsUntilRearmed) {
@@ -372,7 +372,7 @@ TEST(AcceptanceScenarios, S8PotOpenWireStopsUntilRearmed) {
   EXPECT_EQ(rig.state(), core::ArmState::fault);
   EXPECT_TRUE(has_fault(rig.last(), core::kFaultBitJ2 + 4 * 1 + 3)) << "j3_rail";
   EXPECT_TRUE(rig.sim.bridges_off());
-  EXPECT_TRUE(rig.sim.drivers_enabled()) << "SPEC 6: the steppers held";
+  EXPECT_TRUE(rig.sim.drivers_enabled()) << "the steppers held";
   const int64_t steps = r.steps_commanded();
   const plant::Joints q_fault = rig.sim.q();
   r.watch.reset(q_fault);
@@ -417,7 +417,7 @@ TEST(AcceptanceScenarios, S8EveryPotFaultStopsTheArm) {
       EXPECT_TRUE(has_fault(rig.last(), core::kFaultBitJ2 + 4 * d + 3) || has_fault(rig.last(), core::kFaultBitJ2 + 4 * d + 2))
           << "its rail or jump";
       EXPECT_TRUE(rig.sim.bridges_off());
-      EXPECT_TRUE(rig.sim.drivers_enabled()) << "SPEC 6: the steppers held";
+      EXPECT_TRUE(rig.sim.drivers_enabled()) << "the steppers held";
     }
   }
 }

@@ -151,7 +151,7 @@ void check_states(const DemoRun& d) {
   EXPECT_EQ(states, expected) << seen;
   EXPECT_EQ(d.result.trajectory.back().state, (int)ArmState::running);
   EXPECT_TRUE(d.result.measurements.resets.empty());
-  // SPEC 5: after power-up nothing moves until the long press asks (the plant's true angles)
+  // After power-up nothing moves until the long press asks (the plant's true angles)
   ASSERT_GT(d.t_ask_s, 0) << "the demo starts with a long press";
   double moved_mrad = 0;
   for (int j = 0; j < 6; ++j) moved_mrad = std::max(moved_mrad, 1000 * (d.waiting_q_max[j] - d.waiting_q_min[j]));
@@ -225,7 +225,7 @@ void check_safety_stop(const DemoRun& d) {
   ASSERT_EQ(estop.size(), 1u) << "the scenario presses the safety button once";
   ASSERT_GE(estop[0].bridges_off_s, 0) << "the bridges never braked";
   const double reaction_ms = 1000 * (estop[0].bridges_off_s - estop[0].pressed_s);
-  // SPEC 6: each stepper's train ends at once or slows down to an end, its driver enabled
+  // Each stepper's train ends at once or slows down to an end, its driver enabled
   for (int k = 0; k < 3; ++k) {
     EXPECT_FALSE(estop[0].trains[k].sped_up) << "stepper " << k;
     std::printf("demo: safety button, stepper %d made %lld steps after the press\n", k, (long long)estop[0].trains[k].steps);
@@ -238,14 +238,14 @@ void check_safety_stop(const DemoRun& d) {
       std::printf("demo: safety button, bridges braking in %.3f ms; stopped from %.2f s, hand moved %.2f mm\n", reaction_ms,
                   s.first.t_s, s.hand_mm);
       EXPECT_TRUE(s.bridges_always_off);
-      EXPECT_TRUE(s.drivers_always_enabled) << "SPEC 6: the steppers' drivers hold the arm";
+      EXPECT_TRUE(s.drivers_always_enabled) << "the steppers' drivers hold the arm";
       ASSERT_TRUE(s.coasted) << "stopped for less than " << kCoastDown_s << " s";
       for (int j = 0; j < 6; ++j) EXPECT_LE(s.rest_max[j] - s.rest_min[j], stopped_travel_allowed_rad(j)) << "joint " << j + 1;
     } else if (stopped_seen && s.state == ArmState::running) {
       moved_after |= s.hand_mm >= kMoved_mm;
     }
   }
-  EXPECT_LE(reaction_ms, 1.0);  // SPEC 9, S5
+  EXPECT_LE(reaction_ms, 1.0);  // S5 (docs/design.md)
   EXPECT_TRUE(stopped_seen);
   EXPECT_TRUE(moved_after) << "the stick moves the hand after the re-arm";
 }

@@ -1,4 +1,4 @@
-// SPEC 8's firmware budgets, measured in the simulator (cycles are deterministic, so they gate):
+// The firmware budgets (docs/performance.md, gates), measured in the simulator (cycles are deterministic, so they gate):
 // flash, static RAM and its high-water mark, every ISR's worst case, and three steppers at
 // 20 kHz at once under a control-loop-like load. Each budget is a named constant with its why.
 #include <gtest/gtest.h>
@@ -29,12 +29,12 @@ using namespace wmra;
 const std::string kFirmware = std::string(FIRMWARE_DIR) + "/wmra_firmware.elf";
 const std::string kSteppers20kHz = std::string(FIRMWARE_DIR) + "/steppers_20khz_avr.elf";
 
-// SPEC 8: the ATmega2560 has 256 KB, the target keeps the image within its lower 128 KB (no far
+// The ATmega2560 has 256 KB, the target keeps the image within its lower 128 KB (no far
 // calls, no EIND trampolines)
 constexpr uint32_t kFlashBudget_bytes = 128u * 1024u;
 // static data at most 3 KB, so that the stack keeps at least 1 KB within the 4 KB target
 constexpr uint32_t kStaticRamBudget_bytes = 3u * 1024u;
-// SPEC 8: static data plus the stack's deepest point, at most 4 KB of the 8 KB
+// Static data plus the stack's deepest point, at most 4 KB of the 8 KB
 constexpr uint32_t kRamHighWaterBudget_bytes = 4u * 1024u;
 
 // Every ISR's worst case, cycles (vector to RETI plus the response). Measured with the run
@@ -112,7 +112,7 @@ TEST(FirmwareBudgets, EveryIsrWithinItsWorstCase) {
   }
 }
 
-// SPEC 8 (revision 2): all the work of one tick, the interrupts that land in it included, within
+// All the work of one tick, the interrupts that land in it included, within
 // 12,800 cycles (80 % of the 1 ms tick), and the CPU load at most 60 %, here while the stick
 // drives in XY, XZ and R1 (R1 steps J5 and J6 fast): the iterations, the step, ADC and serial
 // ISRs, the state frames. The mean and the count of iterations over the old 8,000 are printed,
@@ -133,7 +133,7 @@ struct IterationRun {
   // iteration advances the schedule by one), so each parity is one of them
   sim::CycleStats by_parity[2];
   sim::CycleStats own, own_by_parity[2];  // the same less the interrupts that landed in them
-  uint64_t over_target = 0;                // iterations longer than SPEC 8's 8,000 cycles
+  uint64_t over_target = 0;                // iterations longer than the 8,000-cycle target
   uint64_t window_cycles = 0, asleep_cycles = 0;  // while deflected: the CPU's load
   std::vector<uint64_t> in_mode[3];        // each iteration's cycles, in order, while deflected in each mode
   int frames[3] = {0, 0, 0};          // telemetry's state frames while deflected in each mode
@@ -217,7 +217,7 @@ struct IterationRun {
 TEST(FirmwareBudgets, ControlIterationWhileTheStickDrives) {
   static const IterationRun run;
   const sim::CycleStats& it = run.deflected;
-  std::printf("iteration with the stick deflected (XY, XZ, R1): mean %.0f, max %llu cycles over %llu iterations (SPEC 8: %llu)\n",
+  std::printf("iteration with the stick deflected (XY, XZ, R1): mean %.0f, max %llu cycles over %llu iterations (gate %llu)\n",
               it.mean(), (unsigned long long)it.max, (unsigned long long)it.count, (unsigned long long)kTickTarget_cycles);
   std::printf("alternate iterations: mean %.0f, max %llu and mean %.0f, max %llu cycles; CPU load %.1f %%\n",
               run.by_parity[0].mean(), (unsigned long long)run.by_parity[0].max, run.by_parity[1].mean(),
@@ -239,7 +239,7 @@ TEST(FirmwareBudgets, ControlIterationWhileTheStickDrives) {
   EXPECT_LE(run.cpu_load(), kCpuLoadTarget);
 }
 
-// SPEC 8's 1 kHz: no iteration of a move to a pose outlasts its tick. A move's first ticks are
+// The loop's 1 kHz: no iteration of a move to a pose outlasts its tick. A move's first ticks are
 // the heaviest besides the stick's: the steppers' ramps every tick, the three DC servos leaving
 // park (each its breakaway effort and the PID's restart), the move's targets converted. With
 // the holding update on the same tick the move to the ready pose's first took 16,238 cycles;
@@ -340,11 +340,11 @@ TEST(FirmwareBudgets, ThreeSteppersAt20kHzWithTheLoopRunning) {
     EXPECT_EQ(m.steps[k].timing_violations, 0);
     EXPECT_GE(fastest_steps_s[k], 0.98 * kTopSpeed_steps_s);
   }
-  // the loop kept its 1 kHz (the load is the SPEC's 8,000-cycle iteration)
+  // the loop kept its 1 kHz (the load is the 8,000-cycle target iteration)
   EXPECT_NEAR(m.control_rate_hz, 1000.0, 5.0);
 }
 
-// SPEC 8: telemetry at 50 state frames a second while running, with the stick moving the arm
+// Telemetry at 50 state frames a second while running, with the stick moving the arm
 // (the iteration at its longest, more than one tick at times). The frames' own clock (t_ms)
 // gives the period: at most one period late, and 50 a second over the window.
 TEST(FirmwareBudgets, StateFramesAt50HzWhileRunning) {
@@ -370,14 +370,14 @@ TEST(FirmwareBudgets, StateFramesAt50HzWhileRunning) {
 }
 
 
-// SPEC 8 (revision 2), the worst load: all the work of each tick (the iteration, the serial link
+// The worst load: all the work of each tick (the iteration, the serial link
 // with its state frames, the interrupts that land in it: from the wake-up to the next sleep,
 // tick_awake) and the CPU load, while the stick ramps in every mode (full one way, released,
 // full the other way), a command flood comes at the line's full rate (speed_scale commands
 // back to back, each answered), and then a move to a stored pose under the same flood. The
 // steppers run as fast as these motions drive them; their peak step rates are printed beside
 // their configured top speeds (and what the step interrupts would add at those).
-// Gated: no tick is lost (one iteration a millisecond). SPEC 8's worst tick (12,800 cycles) and
+// Gated: no tick is lost (one iteration a millisecond). The worst tick's gate (12,800 cycles) and
 // CPU load (60 %) are measured and printed, not gated: the firmware does not meet them under
 // this load (docs/performance.md); a tick's work then runs into the next one's time, and the
 // longest stretch awake spans several ticks.
@@ -459,7 +459,7 @@ TEST(FirmwareBudgets, WorstLoadLosesNoTick) {
     top_steps_s[k] = config::kStepsPerJointTurn[k] * config::kJointSpeedLimit_crad_s[config::kStepperJoint[k]] / 100.0 / (2 * M_PI);
     top_isr_per_tick += top_steps_s[k] / config::kLoopHz * r.step_isr_max;
   }
-  std::printf("worst load: the longest tick %llu cycles (at %.3f s; SPEC 8: %llu), CPU load %.1f %% (SPEC 8: %.0f %%) over %llu ticks\n",
+  std::printf("worst load: the longest tick %llu cycles (at %.3f s; gate %llu), CPU load %.1f %% (gate %.0f %%) over %llu ticks\n",
               (unsigned long long)r.worst_tick, r.worst_tick_at_s, (unsigned long long)kTickTarget_cycles, 100 * r.cpu_load,
               100 * kCpuLoadTarget, (unsigned long long)r.ticks);
   std::printf("iterations %llu in %llu ms\n", (unsigned long long)r.ticks, (unsigned long long)r.window_ms);

@@ -1,4 +1,4 @@
-// The firmware ELF against the virtual arm: start-up, and the safety scenarios of SPEC 6 and 9
+// The firmware ELF against the virtual arm: start-up, and the safety scenarios (docs/arm-guide.md, safety; docs/design.md)
 // (S5 safety button, S10 watchdog). The firmware's state comes from its own
 // telemetry, decoded with firmware/protocol; the arm's from the plant.
 #include <gtest/gtest.h>
@@ -108,7 +108,7 @@ TEST(FirmwareStartUp, AMoveToTheReadyPoseCutShortIsMadeAgainAfterTheRearm) {
   for (int k = 0; k < 3; ++k) EXPECT_EQ(rig.sim.measurements().steps[k].lost, 0);
 }
 
-// S5 (SPEC 6): the safety button's stop, from its interrupt. The bridges brake (duty 0) within
+// S5: the safety button's stop, from its interrupt. The bridges brake (duty 0) within
 // 100 us; each stepper's train ends or slows down to an end (never faster after its first ms),
 // its driver enabled: the arm holds where it stopped, the hand within 10 mm of where it was at
 // the press; nothing moves while stopped and nothing is driven until the button is released and
@@ -126,7 +126,7 @@ TEST(FirmwareSafety, S5SafetyButtonHoldsTheArmUntilReleasedAndRearmed) {
   for (double t = t_running + 0.8; t < t_running + 1.8; t += 0.002) {
     rig.run_to(t);
     hand_mm = std::max(hand_mm, distance_mm(rig.pose().p, at_press.p));
-    EXPECT_TRUE(rig.sim.drivers_enabled()) << "SPEC 6: the steppers' drivers stay enabled, at " << t;
+    EXPECT_TRUE(rig.sim.drivers_enabled()) << "the steppers' drivers stay enabled, at " << t;
   }
   const sim::Measurements m = rig.sim.measurements();
   ASSERT_EQ(m.estop.size(), 1u);
@@ -171,7 +171,7 @@ TEST(FirmwareSafety, S5SafetyButtonHoldsTheArmUntilReleasedAndRearmed) {
   for (int k = 0; k < 3; ++k) EXPECT_EQ(rig.sim.measurements().steps[k].lost, 0);
 }
 
-// SPEC 6: the safety button's stop is "latched until released and re-armed", whatever the phase
+// The safety button's stop is "latched until released and re-armed", whatever the phase
 // of the control loop the press lands in. A press while an iteration runs, after it has read the
 // button and before its DC servos' run, must not let that run switch a bridge's PWM on again,
 // nor its steppers' service start or speed up a train. The press swept over two ticks (a drives'
@@ -634,7 +634,7 @@ TEST(FirmwarePoses, AMoveTakenOverByTheStickBrakesWithoutLosingSteps) {
   EXPECT_GT(q1_at_takeover * 180 / M_PI, 40.0) << "taken over before the pose";
 }
 
-// SPEC 6: a stick at a rail (unplugged, broken) moves nothing until it is valid again. A goto
+// A stick at a rail (unplugged, broken) moves nothing until it is valid again. A goto
 // or a streamed velocity would move the arm where the person could not take it over (a
 // deflection brakes a move, a stick at a rail reads 0): both refused, and a move under way when
 // the stick is lost brakes as on a takeover.
@@ -781,8 +781,8 @@ TEST(FirmwareSettings, ABurstOfSavesEndsInTheNewestSettings) {
   for (int j = 0; j < 6; ++j) EXPECT_NEAR(after.q_deg[j], last_deg[j], 1.5) << "the newest pose: joint " << j + 1;
 }
 
-// SPEC 6: a streamed velocity that stops arriving stops the arm. The stream's command lapses
-// kVelocityTimeout_ms after its last frame (SPEC 5's 100 ms timeout); from there the joints'
+// A streamed velocity that stops arriving stops the arm. The stream's command lapses
+// kVelocityTimeout_ms after its last frame (the stream's 100 ms timeout); from there the joints'
 // commanded velocities (the state frames') fall as the stick's do when it is let go, over
 // kStickFall_ms (an instant stop would cost J1's stepper steps), to below the standing speed
 // (what is left is the drift correction's trickle, a few mrad/s at most). The hand then swings
@@ -856,7 +856,7 @@ TEST(FirmwareSafety, AStreamedVelocityIsLimitedAsALength) {
 }
 
 // A person's deflected stick takes a streamed velocity over, as it takes over a move to a pose
-// (SPEC 6's "a stick the person can take them over with"): once the image let the stream win and
+// (the rule "a stick the person can take them over with"): once the image let the stream win and
 // the stick was ignored (review22: the hand went +x at the stream's 100 mm/s with the stick held
 // at -x). Taken over, the stream ends: let go of the stick, the hand stays while the host goes on
 // streaming (its commands refused), and a stream drives again only after a pause of the timeout.

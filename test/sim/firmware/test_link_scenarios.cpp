@@ -1,4 +1,4 @@
-// S14 (SPEC 9) and SPEC 6's serial rows: the firmware ELF against the virtual arm. Half a frame
+// S14 (docs/design.md) and the serial link's safety rules (docs/arm-guide.md, safety): the firmware ELF against the virtual arm. Half a frame
 // from a host that died cannot wedge the link: a stop after it is obeyed within 10 ms of its
 // last byte. A stream never drives again after a stop: its commands are refused after the
 // re-arm until it pauses for the timeout. A re-arm while the safety button is held is refused
@@ -33,7 +33,7 @@ constexpr double kByte_s = 10.0 / 115200;  // a byte on the line (8N1)
 // us more a byte (5 ms after 800 bytes), where the chip would have every byte as it ends. A
 // long burst goes at simavr's rate, so that a stop after it is timed from when it arrives.
 constexpr double kSimavrByte_s = 93e-6;
-constexpr double kStopWithin_s = 0.010;    // SPEC 6: a stop after any garbage, from its last byte
+constexpr double kStopWithin_s = 0.010;    // a stop after any garbage, from its last byte
 
 // a velocity command cut after 3 of its 12 payload bytes: the host died mid-frame
 const std::vector<uint8_t> kHalfFrame = {0xA5, 0x02, 0x17, 0x05, 0x0C, 0x32, 0x00, 0x00};
@@ -250,7 +250,7 @@ TEST(S14Link, HalfAFrameThenAStopWhileHoming) {
   EXPECT_LE(watch.travel_mm, 1.0) << "nothing moves while stopped";
 }
 
-// The ways a stream may be stopped (SPEC 6: any stop ends it)
+// The ways a stream may be stopped (any stop ends it)
 enum class StopBy { safety_button, stop_command, pot_fault, stick_unplugged };
 const char* name(StopBy s) {
   switch (s) {
@@ -366,7 +366,7 @@ INSTANTIATE_TEST_CASE_P(EveryStop, S14Stream,
                           return n;
                         });
 
-// SPEC 6: a re-arm while the safety button is held is refused, and the reply says why
+// A re-arm while the safety button is held is refused, and the reply says why
 // (safety_held): it changes nothing, the joints as in the same run without it. Released, the
 // same command re-arms. (It answered ok and did nothing.)
 struct HeldRearm {

@@ -1,4 +1,4 @@
-// SPEC 9's motion scenarios against the firmware ELF in the simulator: S1 and S2 (the hand
+// The motion scenarios of docs/design.md against the firmware ELF in the simulator: S1 and S2 (the hand
 // along an axis at full stick) and S3 (the wrist turning about a still frame-6 origin); S7 is
 // test_singularity_scenario.cpp. The figures come from the plant's true joint angles
 // (trajectory rows, 100 per second); the firmware's view from its telemetry.
@@ -139,7 +139,7 @@ void expect_straight_line(const ScenarioRun& r, double t0, int axis) {
 // stretch the arm into the elbow's singular band (|sin q3| 0.52 after 1.5 s, 0.23 after 1.75 s):
 // J3 would need 0.88 rad/s after 1.5 s (its drive's plan there: 0.81) and 2.1 after 1.75 s (its
 // limit: 1.0), and the firmware rightly slowed the hand to 0.138 m/s (slowed_by drive_load),
-// 10 mm off the axis; SPEC 9 asks for the line from a non-singular pose. S2 from the ready pose
+// 10 mm off the axis; S1 asks for the line from a non-singular pose. S2 from the ready pose
 // has J2 lift arm and payload (69 % holding duty) at 99 % of the speed its drive plans, 96 % duty
 // at speed and more than full duty while the stick ramps up, so J2 fell 16 mrad behind and the
 // hand turned by 0.8-1.2 deg depending on the loop's timing. From 0.14 m nearer, both 0.3 m
@@ -154,7 +154,7 @@ constexpr const char* kPullIn = "6.0 joystick 0 -1\n7.0 joystick 0 0\n";  // in 
 // (a 185-cycle delay after the iteration made the plant's angles differ from 0.86 s on and by
 // 5.5 mrad at 8 s). A line held at one start is one draw: S1, S2 and S3-R2 run at noise seeds 1..4 with
 // the stick at 8 s, and at seed 1 with its start (and release) shifted by 2, 5 and 6 x 1.3 ms
-// (the figures still from t0 = 8 s); every run must meet SPEC 9. Over seeds 1..32, S1 measured
+// (the figures still from t0 = 8 s); every run must meet S1's and S2's figures (docs/design.md). Over seeds 1..32, S1 measured
 // 3.46-4.57 mm off its axis; before the DC joints' friction compensation followed the motion and
 // the stick's fall took 300 ms, 3.89-5.41 (four seeds over 5 mm), while seed 1 alone passed.
 struct Start {
@@ -198,7 +198,7 @@ void expect_straight_line_at_shifts(const std::string& before, const char* stick
 // S1 starts 0.36 m nearer the base than the ready pose (stick -Y for 2.4 s: 0.55 m from the base
 // axis), S2 0.14 m nearer (kPullIn). Along the ready pose's azimuth +X turns J1, and beyond about
 // 0.55 m of the base axis with the payload J1 slows the hand below 0.15 m/s so that its stop keeps
-// the hand within SPEC 6's 10 mm (config/stop_config.h: 0.133 m/s on S1's line from 0.14 m
+// the hand within the stop's 10 mm (config/stop_config.h: 0.133 m/s on S1's line from 0.14 m
 // nearer, 0.77 to 0.85 m out): a limit of J1's torque, which S11 tests; S1 tests the line.
 TEST(FirmwareMotion, S1FullStickInXYMovesTheHandAlongX) {
   expect_straight_line_at_shifts("6.0 joystick 0 -1\n8.4 joystick 0 0\n", "1 0", 0, 0, kInit, {}, 9.5);

@@ -1,4 +1,4 @@
-// S7 (SPEC 9): stretching the arm through sin q3 = 0. The firmware ELF in the simulator, in XY
+// S7 (docs/design.md): stretching the arm through sin q3 = 0. The firmware ELF in the simulator, in XY
 // from the ready pose (q1 = 70 deg, q3 = -70 deg): full stick about along the arm pushes the
 // hand outwards until the elbow straightens, the stick stays there, then it is reversed.
 // The plant's true joint angles, sampled every millisecond, show no joint over its speed limit

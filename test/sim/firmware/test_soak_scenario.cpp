@@ -1,4 +1,4 @@
-// A seeded 10-minute soak (SPEC issue 30; SPEC 6 and 9): a scenario generated from a fixed seed
+// A seeded 10-minute soak (issue 30; docs/arm-guide.md, safety; docs/design.md): a scenario generated from a fixed seed
 // mixes what a person and a careless host do over 600 s of simulated time (stick deflections,
 // releases, mode presses, the safety button and its re-arm, `stop`, velocity streams that just
 // stop, stored poses and moves to them, `home` while moving, pot faults and their clearing, an
@@ -457,7 +457,7 @@ void EveryJointStaysWithinItsLimits(const SoakRun& r) {
   }
 }
 
-// 2. After every stop the hand stays where it was. SPEC 6 asks <= 10 mm from any motion; a DC
+// 2. After every stop the hand stays where it was. The stop allows <= 10 mm from any motion; a DC
 // joint that turns fast coasts on its worm's rotor 40 to 80 ms after its bridge brakes, and the
 // hand goes up to 11.1 mm (test_stop_scenarios' Coasting cases, the known gap). So: 10 mm where
 // every DC joint turned slower than kCoastFree_rad_s before the stop, kCoastingGap_mm where one

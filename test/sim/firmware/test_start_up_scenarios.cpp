@@ -1,4 +1,4 @@
-// S12 (SPEC 5, 6 and 9): after power-up and after every reset nothing moves until the person
+// S12 (docs/design.md): after power-up and after every reset nothing moves until the person
 // asks, with a long press of the joystick button or the host's `home`. Judged on the plant's
 // true joint angles (sampled every millisecond), not on the firmware's telemetry: no joint moves
 // more than 0.1 mrad while the arm waits, whatever else the person does meanwhile (short
@@ -191,7 +191,7 @@ TEST(S12StartUp, AButtonHeldSincePowerUpStartsNothing) {
 }
 
 // After a watchdog reset (the test build's hang command, S10) with the arm at rest in running:
-// the new start waits as after power-up. The hang's cut disables the stepper drivers (SPEC 6), and
+// the new start waits as after power-up. The hang's cut disables the stepper drivers, and
 // their rotors, undriven, settle into their nearest detents (the magnetic spring of the plant's
 // motor, at most a full step at the joint: J1 15.7, J5 3.1, J6 31.4 mrad): J5 and J6 within
 // 0.25 s, J1, swinging with the arm on it, within about 2.5 s; nothing drives them. From then on

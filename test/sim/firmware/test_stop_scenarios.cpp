@@ -1,4 +1,4 @@
-// S11 (SPEC 6, 9): every stop holds the arm where it stopped. Each stop kind (the safety button,
+// S11 (docs/design.md): every stop holds the arm where it stopped. Each stop kind (the safety button,
 // the `stop` command, a pot fault) during each kind of motion (the stick in XY, XZ, R1, R2; a
 // streamed velocity; the move to the ready pose and to a stored pose): the bridges brake, the
 // steppers' trains end or slow down to an end with
@@ -33,7 +33,7 @@ struct StopCase {
   double x, y;       // the stick, or the streamed hand velocity (m/s) along base x and y
   DriveBy drive;
   StopBy stop;
-  // SPEC 6's 10 mm is met; false: measured and printed only (see kCoasting below)
+  // the stop's 10 mm is met; false: measured and printed only (see kCoasting below)
   bool within_10_mm = true;
   // > 0: the stick turns to (x, y) this long before the stop, from (x0, y0) before it: the joints
   // speeding up at the stop (J1 then lags its field)
@@ -106,10 +106,10 @@ TEST_P(S11, TheArmHoldsWhereItStopped) {
               speed_m_s, travel_mm, drift_mm, trains_ms);
   ::testing::Test::RecordProperty("travel_mm", std::to_string(travel_mm));
   ::testing::Test::RecordProperty("drift_mm", std::to_string(drift_mm));
-  if (c.within_10_mm) EXPECT_LE(travel_mm, 10.0) << "SPEC 6: the hand within 10 mm after the stop";
+  if (c.within_10_mm) EXPECT_LE(travel_mm, 10.0) << "the hand within 10 mm after the stop";
   EXPECT_LE(drift_mm, 1.0) << "nothing moves while stopped";
   EXPECT_FALSE(driven_while_stopped);
-  EXPECT_FALSE(drivers_off) << "SPEC 6: the steppers' drivers hold the arm";
+  EXPECT_FALSE(drivers_off) << "the steppers' drivers hold the arm";
   for (int k = 0; k < 3; ++k) EXPECT_EQ(m.steps[k].lost, 0) << "stepper " << k;
 }
 
@@ -132,7 +132,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 // NOT MET YET: where a DC joint turns fast, it coasts on after its bridge brakes (the worm's
 // rotor on its shorted motor: 40 to 80 ms in the simulator's model), and the hand goes further
-// than SPEC 6's 10 mm: J4 at 1.43 rad/s in R2 at the ready pose (11.1 mm), J2 lowering the
+// than the stop's 10 mm: J4 at 1.43 rad/s in R2 at the ready pose (11.1 mm), J2 lowering the
 // hand in XZ (8.5 mm here, 11.1 mm 0.5 s further down). Measured here; everything else the stop
 // promises is checked.
 INSTANTIATE_TEST_SUITE_P(Coasting, S11,

@@ -1,4 +1,4 @@
-// S13 (SPEC 5, 9): J6 homes by the short way. Its zero switch closes once a turn, so the
+// S13 (docs/design.md): J6 homes by the short way. Its zero switch closes once a turn, so the
 // firmware keeps J6's angle at rest in EEPROM and homes to the switch of the turn that angle
 // implies; without one, it takes J6 to be within half a turn of 0 and sweeps. Judged on the
 // plant's true J6 angle, sampled every millisecond: where J6 ends, how far it rolled, that it
@@ -183,7 +183,7 @@ void expect_homed_to(const Homing& h, double zero_deg, const std::string& what) 
 const double kStarts_deg[] = {-350, -200, -100, -10, 0, 10, 100, 200, 350};
 
 // With J6's angle recorded (as a previous run left it): from anywhere in its range J6 homes to
-// the turn that angle implies, rolling at most 190 deg (SPEC 5). (Before the record, J6 homed
+// the turn that angle implies, rolling at most 190 deg. (Before the record, J6 homed
 // to the first switch below it: from -10 deg it rolled 348 deg to the true -360 while the
 // firmware said 0.)
 TEST(S13WristHoming, FromARecordedAngleAcrossTheRange) {
@@ -203,7 +203,7 @@ TEST(S13WristHoming, FromARecordedAngleAcrossTheRange) {
 }
 
 // Without a recorded angle (a new board): J6 within half a turn of 0 homes to 0; from 20 deg off,
-// at most about 120 deg of roll in all (SPEC 5).
+// at most about 120 deg of roll in all.
 TEST(S13WristHoming, WithoutARecordedAngleFromWithinHalfATurn) {
   double largest = 0;
   for (double start : {-170.0, -100.0, -20.0, -10.0, 0.0, 10.0, 20.0, 100.0, 170.0}) {

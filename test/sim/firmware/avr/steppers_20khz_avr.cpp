@@ -1,4 +1,4 @@
-// SPEC 8, step generation: three steppers at 20 kHz at once with the control loop running.
+// Step generation (docs/performance.md, gates): three steppers at 20 kHz at once with the control loop running.
 // The firmware's own step driver and ramps (lib/drivers/steppers, lib/control/step_rate.h);
 // each channel moves kSteps steps (J1 and J6 positive, J5 negative) at up to 20 kHz, the
 // ramps' top speed with the firmware's minimum interval. A 1 kHz loop on the firmware's tick
@@ -23,7 +23,7 @@ constexpr uint32_t kTopSpeed_steps_s = 20000;
 // the firmware's shortest and longest intervals (firmware/config/joints_config.h)
 constexpr control::StepRateConstants kRate = control::step_rate_constants(steppers::kTickHz, steppers::kServiceHz, {100000, 12, 12500});
 static_assert(kRate.status == control::RateStatus::ok, "ramp");
-// the SPEC's budget for one control iteration (8,000 cycles), as busy work: 4 cycles a count
+// the budget for one control iteration (8,000 cycles), as busy work: 4 cycles a count
 constexpr uint16_t kLoadCycles = 8000;
 constexpr int8_t kDir[steppers::kCount] = {+1, -1, +1};  // J1, J5, J6
 
