@@ -216,11 +216,10 @@ void mark_rest() {
 // has been off the rail for kStandstillSettle_ms (the pot's input filter settles within it).
 bool moved_from_rest() {
   static_assert(kStandstillSettle_ms < 256, "the settling count fits a byte");
-  constexpr int16_t kRailLow = kRailMargin_counts * kPositionUnitsPerCount, kRailHigh = (1023 - kRailMargin_counts) * kPositionUnitsPerCount;
   bool moved = false;
   for (uint8_t d = 0; d < 3; ++d) {
     DcJoint& dc = g_dc[d];
-    if (dc.units <= kRailLow || dc.units >= kRailHigh) {
+    if (dc.units <= kPotRailLow_units || dc.units >= kPotRailHigh_units) {
       dc.still_wait = (uint8_t)kStandstillSettle_ms;
       continue;
     }

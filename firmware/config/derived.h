@@ -166,6 +166,9 @@ static_assert(!kDcUseRelay || (relay_within_limit(0) && relay_within_limit(1) &&
               "the relay's duty within every DC joint's speed limit");
 
 // --- the DC servos
+// a pot's reading at a rail (open, shorted wiper), in pot units: below the low one or above the high
+constexpr int16_t kPotRailLow_units = kRailMargin_counts * kPositionUnitsPerCount;
+constexpr int16_t kPotRailHigh_units = (1023 - kRailMargin_counts) * kPositionUnitsPerCount;
 constexpr core::DcServoConfig dc_servo_config(uint8_t d) {
   return core::DcServoConfig{
       kDcUseRelay,
@@ -176,8 +179,7 @@ constexpr core::DcServoConfig dc_servo_config(uint8_t d) {
                                   (int16_t)(kStallProgress_counts * kPositionUnitsPerCount), (uint16_t)kSignGrace_ms,
                                   (int16_t)(kSignDistance_counts * kPositionUnitsPerCount),
                                   (int16_t)(kMaxStep_counts_per_ms * kPositionUnitsPerCount),
-                                  (int16_t)(kRailMargin_counts * kPositionUnitsPerCount),
-                                  (int16_t)((1023 - kRailMargin_counts) * kPositionUnitsPerCount), (uint8_t)kRailTime_ms},
+                                  kPotRailLow_units, kPotRailHigh_units, (uint8_t)kRailTime_ms},
       (int16_t)(kDcParkBand_counts * kPositionUnitsPerCount), (uint16_t)kDcParkTime_ms, (uint16_t)kDcUnparkTime_ms,
       permille_q15(kDcMovingFrictionDuty_permille)};
 }
