@@ -31,6 +31,15 @@ struct Requests {
   int16_t w_mrad_s[3];
 };
 
+// What a command's checks read of the arm: status()'s flags, without the joints' angles and the
+// hand's FK (~2,500 cycles), so that a command costs little more than its reply
+struct Condition {
+  core::ArmState state;
+  uint32_t faults;
+  uint16_t switches;
+  int16_t stick_q15[2];
+};
+
 // what telemetry reports
 struct Status {
   core::ArmState state;
@@ -65,6 +74,7 @@ void iterate(Requests& requests, uint8_t ticks);
 void stop_from_interrupt();  // the stop hook of the safety button and the limit switches: the arm held
 void outputs_off();          // a hang's (watchdog.h): every output off, the steppers' drivers too
 const Status& status();
+Condition condition();
 bool select_mode(config::Mode m);
 void set_speed_scale(uint8_t percent);
 bool store_pose(uint8_t slot);

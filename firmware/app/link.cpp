@@ -98,8 +98,8 @@ constexpr uint8_t kTestStallCommand = 0x7E;
 #endif
 
 // a streamed velocity or a move may go on: running, with a stick the person can take it over with
-bool motion_allowed(const Status& st) {
-  return st.state == core::ArmState::running && !(st.faults & core::fault_mask(core::kFaultBitStickInvalid));
+bool motion_allowed(core::ArmState state, uint32_t faults) {
+  return state == core::ArmState::running && !(faults & core::fault_mask(core::kFaultBitStickInvalid));
 }
 
 ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
@@ -117,14 +117,12 @@ ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
 #endif
   const ReplyStatus check = protocol::check_command(f);
   if (check != ReplyStatus::ok) return check;
-  // status() only where the state is read: it puts the whole report together (~2,500 cycles,
-  // the hand's FK), and a flood of commands that do not read it overran ticks with it
   switch ((MsgType)f.type) {
     case MsgType::cmd_stop:
       rq.stop = true;
       return ReplyStatus::ok;
     case MsgType::cmd_rearm: {
-      const core::ArmState state = status().state;
+      const core::ArmState state = condition().state;
       if (state != core::ArmState::stopped && state != core::ArmState::fault) return ReplyStatus::refused;
       if (inputs::safety_pressed()) return ReplyStatus::safety_held;  // the supervisor would stay stopped
       rq.rearm = true;
@@ -136,13 +134,14 @@ ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
       set_speed_scale(f.payload[0]);
       return ReplyStatus::ok;
     case MsgType::cmd_home:
-      if (!core::accepts_home(status().state)) return ReplyStatus::refused;
+      if (!core::accepts_home(condition().state)) return ReplyStatus::refused;
       rq.home = true;
       return ReplyStatus::ok;
     case MsgType::cmd_goto_pose: {
       // not from a closed limit switch: a move would not keep off it (the stick drives off it)
-      const Status& st = status();
-      if (!motion_allowed(st) || (st.switches & kSwitchesArmed) || !pose_valid(f.payload[0])) return ReplyStatus::refused;
+      const Condition c = condition();
+      if (!motion_allowed(c.state, c.faults) || (c.switches & kSwitchesArmed) || !pose_valid(f.payload[0]))
+        return ReplyStatus::refused;
       rq.goto_slot = (int8_t)f.payload[0];
       return ReplyStatus::ok;
     }
@@ -152,8 +151,8 @@ ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
       // every command keeps its stream arriving, a refused one too: a stream ended stays ended
       // while its commands come (with the stick deflected it would be taken over at once)
       g_velocity_age_ms = 0;
-      const Status& st = status();
-      if (!motion_allowed(st) || st.stick_q15[0] != 0 || st.stick_q15[1] != 0) g_stream_ended = true;
+      const Condition c = condition();
+      if (!motion_allowed(c.state, c.faults) || c.stick_q15[0] != 0 || c.stick_q15[1] != 0) g_stream_ended = true;
       if (g_stream_ended) return ReplyStatus::refused;
       protocol::VelocityCmd v;
       protocol::decode(f, v);  // (check_command has checked its length)
@@ -200,7 +199,7 @@ FrameBuffer g_state_frame;
 void gather_state() {
   g_state = status();
   g_state_t_ms = tick::now_ms();
-  if (!motion_allowed(g_state)) g_stream_ended = true;  // a stop between two commands of the stream
+  if (!motion_allowed(g_state.state, g_state.faults)) g_stream_ended = true;  // a stop between two commands of the stream
 }
 
 void convert_state() {

@@ -1,5 +1,5 @@
-// What telemetry reports of the arm (status(), calibration(): arm_control.h), put together when
-// it is asked for (a state frame every 20 ms) from what the last iteration left.
+// What telemetry and the commands' checks read of the arm (status(), condition(), calibration():
+// arm_control.h), put together when asked for from what the last iteration left.
 #include "app/arm.h"
 #include "app/dc_drives.h"
 #include "app/motion.h"
@@ -15,16 +15,27 @@ bool stick_invalid(const control::JoystickOutput& stick) {
   return stick.status & (control::kJoystickRailX | control::kJoystickRailY);
 }
 
+Condition condition() {
+  const control::JoystickOutput stick = g_arm.stick.output();
+  Condition c;
+  c.state = g_arm.supervisor.state();
+  c.faults = g_arm.faults | (stick_invalid(stick) ? core::fault_mask(core::kFaultBitStickInvalid) : 0) |
+             (g_arm.overrun_ms > 0 ? core::fault_mask(core::kFaultBitLoopOverrun) : 0);
+  c.switches = inputs::closed_switches();
+  c.stick_q15[0] = stick.x_q15;
+  c.stick_q15[1] = stick.y_q15;
+  return c;
+}
+
 const Status& status() {
   Status& s = g_arm.status;
-  s.state = g_arm.supervisor.state();
+  const Condition c = condition();
+  s.state = c.state;
   s.mode = g_arm.supervisor.mode();
-  const control::JoystickOutput stick = g_arm.stick.output();
-  s.faults = g_arm.faults | (stick_invalid(stick) ? core::fault_mask(core::kFaultBitStickInvalid) : 0) |
-             (g_arm.overrun_ms > 0 ? core::fault_mask(core::kFaultBitLoopOverrun) : 0);
-  s.switches = inputs::closed_switches();
-  s.stick_q15[0] = stick.x_q15;
-  s.stick_q15[1] = stick.y_q15;
+  s.faults = c.faults;
+  s.switches = c.switches;
+  s.stick_q15[0] = c.stick_q15[0];
+  s.stick_q15[1] = c.stick_q15[1];
   steppers::count();  // while the stick drives the loop counts the steps only before the ramps' ticks
   for (uint8_t i = 0; i < 3; ++i) s.q_measured[config::kStepperJoint[i]] = stepper_drives::angle(i);
   for (uint8_t d = 0; d < 3; ++d) s.q_measured[config::kDcJoint[d]] = dc_drives::angle(d);

@@ -292,6 +292,7 @@ void ArmSimulator::update_outputs(bool steppers, bool probe_pin) {
       isr_cycles_at_rise_ = core_->isr_cycles();
       if (config_.profile_over_cycles) core_->begin_stretch();
     } else if (probe_seen_) {
+      loop_high_by_plan_tick_[loop_high_.count % 8].add(cycle - last_rise_);
       loop_high_.add(cycle - last_rise_);
       loop_own_.add(cycle - last_rise_ - (core_->isr_cycles() - isr_cycles_at_rise_));
       if (config_.profile_over_cycles)
@@ -654,6 +655,7 @@ Measurements ArmSimulator::measurements() const {
   m.cycles = core_->cycle();
   m.sim_time_s = time_s();
   m.loop_high = loop_high_;
+  m.loop_high_by_plan_tick = loop_high_by_plan_tick_;
   m.loop_own = loop_own_;
   {
     const AvrCore::AwakeStats& a = core_->awake();

@@ -95,6 +95,9 @@ struct Measurements {
   double sim_time_s = 0;
   uint64_t cycles = 0;
   CycleStats loop_high;    // D49 high: one control iteration, cycles
+  // the same by the iteration's number mod 8: the tick plan's eight ticks (app/tick_plan.h), up
+  // to a fixed offset (the loop runs its plan by iteration)
+  std::array<CycleStats, 8> loop_high_by_plan_tick;
   // D49 high less the interrupt handlers' cycles that landed in it: the iteration's own work.
   // No handler straddles an edge: D49 is written by the loop, never inside a handler.
   CycleStats loop_own;
@@ -212,6 +215,7 @@ class ArmSimulator {
   uint64_t first_rise_ = 0, last_rise_ = 0;
   uint64_t isr_cycles_at_rise_ = 0;
   CycleStats loop_high_, loop_own_, loop_period_;
+  std::array<CycleStats, 8> loop_high_by_plan_tick_;
   avr_irq_t* adc_irq_ = nullptr;
   avr_irq_t* uart_irq_ = nullptr;
   bool uart_xoff_ = false;
