@@ -11,6 +11,7 @@
 #include "protocol/frame.h"
 #include "protocol/messages.h"
 #include "protocol/parser.h"
+#include "wmra_mega/board.h"
 
 namespace wmra {
 namespace app {
@@ -77,10 +78,16 @@ uint8_t* const kPayload = g_frame.bytes + protocol::kHeaderBytes;
 
 // g_frame, its payload of `length` bytes in place, to the transmit buffer; false when that had
 // no room: the frame is dropped whole. Its number is used up either way, so that the host sees
-// a gap for every frame dropped (docs/telemetry.md).
+// a gap for every frame dropped (docs/telemetry.md). Once a state frame has been dropped,
+// replies and the other frames leave room for the next ones (keep_room_for_state()): commands
+// at the line's full rate need more of the line for their replies than it has (10 bytes out for
+// every 8 in), and would otherwise starve the telemetry; a short burst of them costs one frame
+// and no reply.
+bool keep_room_for_state();
+constexpr uint8_t kStateFrameBytes = protocol::kFrameOverhead + sizeof(protocol::StateMsg);
 bool send(MsgType type, uint8_t length) {
   const uint8_t n = protocol::write_frame((uint8_t)type, g_seq++, kPayload, length, g_frame.bytes);
-  return uart::write(g_frame.bytes, n);
+  return uart::write(g_frame.bytes, n, keep_room_for_state() ? kStateFrameBytes : 0);
 }
 
 void reply(const protocol::Frame& f, ReplyStatus status) {
@@ -196,6 +203,17 @@ Status g_state;            // the report the frame carries
 uint32_t g_state_t_ms;     // and when it was taken
 FrameBuffer g_state_frame;
 
+// After a state frame was dropped, for kStateRoomHold_ms: room kept for each next one from
+// kStateRoomLead_ms before it is due until it is sent (the line drains a frame in 6 ms)
+constexpr uint8_t kStateRoomLead_ms = 8;
+constexpr uint16_t kStateRoomHold_ms = 5000;
+static_assert(kStateRoomLead_ms * board::kSerialBaud / 10 / 1000 >= kStateFrameBytes + 10, "the lead drains a state frame and a reply");
+uint16_t g_state_room_ms;  // > 0: a state frame was dropped this recently
+bool keep_room_for_state() {
+  return g_state_room_ms != 0 &&
+         (g_state_stage != StateStage::idle || (int32_t)(tick::now_ms() + kStateRoomLead_ms - g_next_state_ms) >= 0);
+}
+
 void gather_state() {
   g_state = status();
   g_state_t_ms = tick::now_ms();
@@ -233,7 +251,7 @@ void convert_state() {
 void send_state() {
   const uint8_t n = protocol::write_frame((uint8_t)MsgType::state, g_seq++, g_state_frame.bytes + protocol::kHeaderBytes,
                                           (uint8_t)sizeof(protocol::StateMsg), g_state_frame.bytes);
-  uart::write(g_state_frame.bytes, n);
+  if (!uart::write(g_state_frame.bytes, n)) g_state_room_ms = kStateRoomHold_ms;
 }
 
 void send_calibration() {
@@ -283,6 +301,7 @@ void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   g_arrived = arrived;
   if (uart::received() || g_parser.holding()) receive(rq);
   if (g_send_calibration) send_calibration();
+  g_state_room_ms = g_state_room_ms > ticks ? (uint16_t)(g_state_room_ms - ticks) : 0;
   if (g_velocity_age_ms < 0xFF00) g_velocity_age_ms = (uint16_t)(g_velocity_age_ms + ticks);
   const bool arriving = g_velocity_age_ms < protocol::kVelocityTimeout_ms;
   g_stream_ended = (g_stream_ended | rq.stream_taken_over) & arriving;

@@ -48,10 +48,10 @@ bool received() { return g_rx_tail != g_rx_head; }
 
 uint8_t arrived() { return g_arrived; }
 
-bool write(const uint8_t* data, uint8_t count) {
+bool write(const uint8_t* data, uint8_t count, uint8_t keep_free) {
   uint8_t head = g_tx_head;
   const uint8_t used = (uint8_t)(head - g_tx_tail);
-  if ((uint16_t)used + count > kTxBytes - 1) return false;
+  if ((uint16_t)used + count + keep_free > kTxBytes - 1) return false;
   for (uint8_t i = 0; i < count; ++i) g_tx[head++] = data[i];
   g_tx_head = head;
   // read-modify-write racing the ISR's clear of UDRIE0 is harmless: the ISR runs once more

@@ -18,7 +18,8 @@ bool received();  // a byte is waiting
 // byte come in between (the link's measure of the line's silence, whether or not it has read
 // what came: a partial frame waits for the line, not for the reader)
 uint8_t arrived();
-bool write(const uint8_t* data, uint8_t count);  // false: no room, nothing queued
+// false: no room (with keep_free bytes left free after it), nothing queued
+bool write(const uint8_t* data, uint8_t count, uint8_t keep_free = 0);
 uint16_t rx_overruns();  // bytes lost: ring full or the receiver's own overrun
 
 }  // namespace uart
