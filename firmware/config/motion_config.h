@@ -27,6 +27,11 @@ constexpr int16_t kJointAccelLimit_crad_s2[6] = {50, 300, 300, 300, 350, 350};
 // the zone before that; motion away from the limit is never slowed.
 constexpr int16_t kSoftLimitMargin_deg = 3;
 constexpr int16_t kSoftLimitZone_deg = 12;
+// How long a joint runs on at its speed after its reference starts to slow (the DC joints'
+// lag behind their references, the steppers' position loop): the approach to a singular
+// band brakes in time with it (core/resolved_rate.h). The DC elbow runs on 70-100 ms behind a
+// braking reference; with less, the sweep's elbow ends inside the damped band (docs/motion.md).
+constexpr int16_t kSingularBrakeLag_ms = 100;
 
 static_assert(kMaxHandSpeed_m_s.num > 0 && kMaxHandSpeed_m_s.num * 100 <= 30 * kMaxHandSpeed_m_s.den,
               "kMaxHandSpeed_m_s in (0, 0.3] m/s");
@@ -46,6 +51,7 @@ constexpr bool joint_accels_in_range() {
 static_assert(joint_accels_in_range(), "kJointAccelLimit_crad_s2 in [10, 2000]: [0.1, 20] rad/s^2");
 static_assert(kSoftLimitMargin_deg >= 1 && kSoftLimitMargin_deg <= 10, "kSoftLimitMargin_deg in [1, 10] deg");
 static_assert(kSoftLimitZone_deg >= 2 && kSoftLimitZone_deg <= 30, "kSoftLimitZone_deg in [2, 30] deg");
+static_assert(kSingularBrakeLag_ms >= 0 && kSingularBrakeLag_ms <= 200, "kSingularBrakeLag_ms in [0, 200] ms");
 
 }  // namespace config
 }  // namespace wmra

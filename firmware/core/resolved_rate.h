@@ -12,6 +12,12 @@
 //      inverse is no longer exact. df/dt comes from qd itself:
 //        d c5/dt = -s5 qd5,   d s3/dt = c3 qd3,
 //        d R5/dt = -(s2 a2 qd2 + s23 a3 (qd2 + qd3) + s234 a4 (qd2 + qd3 + qd4)).
+//      The elbow (s3) also brakes in time: |d s3/dt| at most the rate from which it still
+//      stops before the damped band (singular_approach_rate), from |sin q3| < 0.43 on,
+//      before the slow band. The fraction alone lets J^-1's
+//      speeds, which grow as 1 / f, run the elbow into the band faster than it can stop, and
+//      it crossed to the other branch. (c5 = 0 lies at J5's limits, +-90 deg: J5's soft
+//      limit brakes it before its band, step 3.)
 //   3. Soft joint limits. A joint moving towards a limit may go at its speed limit times
 //      (distance to its soft stop) / zone, 0 at the stop, which lies a margin inside the switch;
 //      and at most sqrt(2 (3/4) a d), the speed it can still brake from within the distance d
@@ -231,6 +237,61 @@ __attribute__((noinline)) inline fx::Real near_stop_speed(const JointMotionLimit
   return allowed;
 }
 
+// The fastest a singular factor f may approach its damped band, d = |f| - damp away (Q15): it
+// runs on at that rate for the lag tau (kSingularBrakeLag_ms) and then brakes at a' (3/4 of
+// the deceleration the acceleration limits give it: elbow_braking_q12) to a stop at the band:
+//   r tau + r^2 / (2 a') <= d,  so  r = sqrt((a' tau)^2 + 2 a' d) - a' tau.
+// a' arrives as a_q12 (2^-12 /s^2); the rate is worked in 2^-10 /s, as near_stop_speed's.
+constexpr uint16_t kSingularLagQ16 = (uint16_t)(config::kSingularBrakeLag_ms * 65536.0 / 4000.0);  // a_q12 -> a' tau in 2^-10 /s
+static_assert(config::kSingularBrakeLag_ms < 4000, "a' tau as a 16-bit fraction of a_q12");
+inline fx::Real singular_approach_rate(int16_t d_q15, uint16_t a_q12) {
+  if (d_q15 <= 0) return fx::Real{0};
+  const uint32_t two_a_d = fx::mul_uu(a_q12, (uint16_t)d_q15) >> 6;  // 2 a' d: 2^-26 -> (2^-10)^2
+  const uint16_t lag_q10 = (uint16_t)(fx::mul_uu(a_q12, kSingularLagQ16) >> 16);
+  const uint16_t r_q10 = (uint16_t)(fx::isqrt32(two_a_d + fx::mul_uu(lag_q10, lag_q10)) - lag_q10);
+  return fx::Real{(int32_t)r_q10 << 13};
+}
+// The elbow's braking deceleration a' = 3/4 |c3| a, in 2^-12 /s^2, at least one step. a is J3's
+// acceleration limit, or less where another joint's limit is smaller for its speed: the
+// acceleration limit changes every joint's speed by one common factor (joint_acceleration.h),
+// so the motion brakes at the pace of the joint with the least a_j / |qd_j|, and J3 then at
+// a_j |qd3| / |qd_j| (J1, at 0.5 rad/s^2, turning at 0.3 rad/s with J3 at 0.7: 1.2 rad/s^2
+// instead of 3). qd: J^-1's joint speeds (their ratios are what matter); a reciprocal only for
+// a joint that lowers a. Where J3 hardly turns a' is small, but so is the elbow's rate: the
+// floor keeps such a motion (the drift correction's, a J6 roll's) from reading as one that
+// cannot brake at all.
+inline uint16_t elbow_braking_q12(fx::Unit c3, const fx::Real* qd) {
+  static constexpr double kQ12 = 0.75 * 4096 / 100.0;  // 3/4 of a limit given in rad/s^2 x 100, Q12
+  static_assert(kQ12 * 2000 < 65536, "3/4 of any acceleration limit (<= 20 rad/s^2) in 16 bits, Q12");
+  static constexpr uint16_t kA_q12[arm::kJoints] = {
+      (uint16_t)(kQ12 * config::kJointAccelLimit_crad_s2[0]), (uint16_t)(kQ12 * config::kJointAccelLimit_crad_s2[1]),
+      (uint16_t)(kQ12 * config::kJointAccelLimit_crad_s2[2]), (uint16_t)(kQ12 * config::kJointAccelLimit_crad_s2[3]),
+      (uint16_t)(kQ12 * config::kJointAccelLimit_crad_s2[4]), (uint16_t)(kQ12 * config::kJointAccelLimit_crad_s2[5])};
+  const uint32_t qd3 = (uint32_t)(qd[2].raw < 0 ? -qd[2].raw : qd[2].raw);
+  uint16_t a = kA_q12[2];
+  for (uint8_t j = 0; j < arm::kJoints; ++j) {
+    const uint32_t qdj = (uint32_t)(qd[j].raw < 0 ? -qd[j].raw : qd[j].raw);
+    // a_j |qd3| / |qd_j| < a  <=>  a_j |qd3| < a |qd_j| (both sides / 2^16)
+    if (j == 2 || fx::mul_hi_u32xu16(qd3, kA_q12[j]) >= fx::mul_hi_u32xu16(qdj, a)) continue;
+    const fx::Real ratio = fx::Real{(int32_t)qd3} * fx::reciprocal(fx::Real{(int32_t)qdj});  // < a / a_j <= 40
+    a = (uint16_t)(fx::mul_hi_u32xu16((uint32_t)ratio.raw, kA_q12[j]) >> 7);  // Q23 x Q12 -> Q12
+  }
+  const uint16_t braking = (uint16_t)(fx::mul_uu((uint16_t)magnitude(c3), a) >> 15);
+  return braking > 0 ? braking : 1;
+}
+// Where the elbow's braking may begin: |sin q3| below 0.43 (|c3| >= 0.9). From J3's top
+// speed at its own limit it needs 0.35 (the lag, the braking and the damped band); where
+// another joint's limit sets the pace (elbow_braking_q12) it needs more, and J3 then turns the
+// slower for it.
+constexpr int32_t kElbowBrakingFromRaw = 14090;
+constexpr bool elbow_braking_from_j3_speed_fits() {
+  constexpr double a = 0.75 * 0.9 * config::kJointAccelLimit_crad_s2[2] / 100.0;
+  constexpr double v = config::kJointSpeedLimit_crad_s[2] / 100.0;
+  return (arm::kSingularBands.damp_s3.num / (double)arm::kSingularBands.damp_s3.den + v * config::kSingularBrakeLag_ms / 1000.0 +
+          v * v / (2 * a)) * 32768.0 < kElbowBrakingFromRaw;
+}
+static_assert(elbow_braking_from_j3_speed_fits(), "the elbow brakes from J3's top speed within |sin q3| < 0.43");
+
 // Steps 2 to 4 for J^-1 twist (inv): the factor s, which the caller applies (scaled(s, qd_j)
 // for each joint: the firmware in its acceleration limit's pass over the joints, without a
 // pass of its own)
@@ -258,8 +319,14 @@ RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin:
   if (magnitude(f.c5) < kSlowC5 && moving_towards_zero(f.c5, -(t.s5 * qd[4]))) {
     singular = smaller(singular, singular_fraction<kDampC5, kSlowC5>(f.c5));
   }
-  if (magnitude(f.s3) < kSlowS3 && moving_towards_zero(f.s3, fx::sincos(q.q[2]).c * qd[2])) {
-    singular = smaller(singular, singular_fraction<kDampS3, kSlowS3>(f.s3));
+  static_assert(kElbowBrakingFromRaw >= kSlowS3, "the elbow brakes from the slow band or before it");
+  if (magnitude(f.s3) < kElbowBrakingFromRaw) {
+    const fx::Unit c3 = fx::sincos(q.q[2]).c;
+    const fx::Real rate = c3 * qd[2];
+    if (moving_towards_zero(f.s3, rate)) {
+      if (magnitude(f.s3) < kSlowS3) singular = smaller(singular, singular_fraction<kDampS3, kSlowS3>(f.s3));
+      singular = limit_scale(singular, rate, singular_approach_rate((int16_t)(magnitude(f.s3) - kDampS3), elbow_braking_q12(c3, qd)));
+    }
   }
   if (magnitude(f.r5) < kSlowR5) {
     const fx::Real qd23 = qd[1] + qd[2];

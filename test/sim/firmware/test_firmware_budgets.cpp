@@ -377,7 +377,7 @@ TEST(FirmwareBudgets, StateFramesAt50HzWhileRunning) {
 // pose with the commands still coming. The steppers run as fast as these motions drive them;
 // their peak step rates are printed beside their configured top speeds (and what the step
 // interrupts would add at those).
-// The commands come at the line's full rate (SPEC 8's flood). Gated: no tick lost, no byte lost,
+// The commands come at the line's full rate (the worst load's flood, docs/performance.md). Gated: no tick lost, no byte lost,
 // the state frames at 50 a second (the replies leave them room). The worst tick's 12,800 cycles
 // and the CPU load's 60 % are measured and printed, not gated: the firmware does not meet them
 // under this load (docs/performance.md); a tick's work then runs into the next one's time.

@@ -104,6 +104,12 @@ TEST(SingularityScenario, S7StretchingTheElbowStaysWithinJointSpeedsAndDrivesBac
               distance_mm(stretched.p, start.p), distance_mm(pushed.p, stretched.p), closest_s3,
               to_double(arm::kSingularBands.slow_s3), to_double(arm::kSingularBands.damp_s3), back_mm, back_s3);
   EXPECT_LT(closest_s3, to_double(arm::kSingularBands.slow_s3)) << "the elbow did not straighten into the slow band";
+  // and braked in time: the references stop at the damped band's edge, the elbow's lag behind
+  // them carries it a fifth of the band further at most, and it never passes through
+  EXPECT_GT(closest_s3, 0.8 * to_double(arm::kSingularBands.damp_s3)) << "the elbow ran into the damped band";
+  bool crossed = false;
+  for (const Sample& s : samples) crossed |= (std::sin(s.q[2]) > 0) != (std::sin(samples.front().q[2]) > 0);
+  EXPECT_FALSE(crossed) << "the elbow passed through the stretch";
 
   // no joint over its limit, no jump: over 10 ms, and from one millisecond to the next
   const JointMotion m = joint_motion(samples, t_out, t_back + kBackS + 0.5);

@@ -1,4 +1,4 @@
-// Stick to actuator (SPEC 8): a change of the stick reaches the step rates and the PWM duties
+// Stick to actuator (docs/performance.md's gate): a change of the stick reaches the step rates and the PWM duties
 // within 5 ms. The latency is the first moment at which the actuator commands of a run where
 // the stick changes differ from those of a twin run where it does not: the simulator is
 // deterministic, so the twins are the same up to the change, and whatever differs after it
@@ -12,7 +12,7 @@
 // 300 ms: its first samples' command can be below a duty's or a step rate's resolution, and a
 // joint held at a speed bound (J1's stop speed far out) does not slow until the command falls
 // below it. So the figures are what a person's hand meets at the actuators; they are printed
-// beside SPEC 8's 5 ms (docs/performance.md) and gated only on the commands following the stick
+// beside the gate's 5 ms (docs/performance.md) and gated only on the commands following the stick
 // within kResponse_s.
 #include <gtest/gtest.h>
 
@@ -122,7 +122,7 @@ Latencies measure(const char* name, double before_x, double before_y, double aft
 
 void expect_follows(const char* name, double before_x, double before_y, double after_x, double after_y) {
   const Latencies l = measure(name, before_x, before_y, after_x, after_y);
-  std::printf("stick to actuator, %s: the PWM duties within %.2f ms, the step rates within %.2f ms (SPEC 8: 5 ms)\n", name,
+  std::printf("stick to actuator, %s: the PWM duties within %.2f ms, the step rates within %.2f ms (gate 5 ms)\n", name,
               l.worst_duty_s * 1e3, l.worst_step_s * 1e3);
   EXPECT_TRUE(l.all_reached) << "an actuator's command did not follow the stick within " << kResponse_s * 1e3 << " ms";
 }

@@ -1,0 +1,82 @@
+// The motion sweep's instrument checked, and a seeded subset of the sweep (scripts/motion-sweep
+// runs all of it): the ideal arm's stick shaping against what the firmware reports of the same
+// stick, its resolved rate against the Eigen FK, and one pose's first tests on the firmware.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "sweep_runner.h"
+
+namespace {
+
+using namespace wmra;
+using namespace wmra::sweep;
+
+// The replica of the stick's shaping gives what the firmware's Joystick gives (its state frames
+// report the shaped deflection in thousandths), at a few deflections and a diagonal.
+TEST(MotionSweep, TheIdealStickShapingIsTheFirmwares) {
+  test::Rig rig(test::kFirmware);
+  const double t = rig.start(15.0);
+  ASSERT_GT(t, 0);
+  rig.sim.send_serial(test::command(protocol::MsgType::cmd_mode, 0, {(uint8_t)config::Mode::gripper}));  // nothing moves
+  rig.run_to(t + 0.5);
+  const double deflections[][2] = {{0.05, 0}, {0.3, 0}, {0, -0.6}, {1, 0}, {0.7071, 0.7071}, {-0.4, 0.2}};
+  for (const auto& d : deflections) {
+    rig.sim.set_joystick(d[0], d[1]);
+    rig.run_to(rig.sim.time_s() + 1.0);
+    const std::array<double, 2> s = StickShaper::shape(d[0], d[1]);
+    std::printf("stick (%.2f, %.2f): firmware (%d, %d), ideal (%.1f, %.1f) thousandths\n", d[0], d[1], rig.last().stick_permille[0],
+                rig.last().stick_permille[1], 1000 * s[0], 1000 * s[1]);
+    EXPECT_NEAR(rig.last().stick_permille[0], 1000 * s[0], 3.0);
+    EXPECT_NEAR(rig.last().stick_permille[1], 1000 * s[1], 3.0);
+  }
+}
+
+// The ideal arm moves the Eigen FK's hand as the twist says: along +y at the full speed after
+// the ramp in XY (from pose 0, clear of the slow bands that way); turning about the frame-6
+// origin, which stays put, in R1.
+TEST(MotionSweep, TheIdealArmFollowsTheTwist) {
+  const Joints q0 = pose(1, 0);
+  IdealArm xy(q0);
+  for (int k = 0; k < 1000; ++k) xy.step(config::Mode::xy, 0, 1, 1e-3);
+  ASSERT_EQ(xy.ineligible(), 0u);
+  const Eigen::Vector3d p0 = pose_of(q0).p, p1 = pose_of(xy.q()).p;
+  // the 0.3 s ramp at a constant rate: 0.15 m/s x (1 s - 0.15 s); Euler steps of 1 ms
+  EXPECT_NEAR(p1.y() - p0.y(), 0.15 * 0.85, 0.5e-3);
+  EXPECT_NEAR(p1.x() - p0.x(), 0, 0.5e-3);
+  EXPECT_NEAR(p1.z() - p0.z(), 0, 0.5e-3);
+  EXPECT_LT(angle_between(pose_of(q0).r, pose_of(xy.q()).r), 1e-3);
+  IdealArm r1(q0);
+  for (int k = 0; k < 500; ++k) r1.step(config::Mode::r1, 0, 1, 1e-3);
+  EXPECT_LT((pose_of(r1.q()).p - p0).norm(), 1e-4);
+  EXPECT_NEAR(angle_between(pose_of(q0).r, pose_of(r1.q()).r), 0.8 * (0.5 - 0.15), 2e-3);
+}
+
+// Pose 0's first four tests in XY and R1 (the stick along +-x and +-y at 0.3) on the firmware:
+// the arm reaches the pose; nothing flips the elbow, sticks or loses a step. The rest of the
+// figures are printed (docs/motion.md has the whole sweep's).
+TEST(MotionSweep, ASeededSubset) {
+  const Joints q = pose(1, 0);
+  PoseRun run(test::kFirmware, 1, 0, q);
+  ASSERT_TRUE(run.start());
+  for (config::Mode mode : {config::Mode::xy, config::Mode::r1}) {
+    const std::vector<StickTest> tests = stick_tests(mode);
+    for (int k = 0; k < 4; ++k) {
+      const TestResult r = run.run(tests[k]);
+      const Figures& f = r.figures;
+      SCOPED_TRACE(std::string(mode_name(mode)) + " " + tests[k].name);
+      std::printf("%s %s: eligible %s, steady %.3f, off-axis %.2f mm, turn %.2f deg, origin %.2f mm, peak 0.1 s %.2f, release %.2f "
+                  "(ideal %.2f), settle %.2f s, S %d\n",
+                  mode_name(mode), tests[k].name.c_str(), f.ineligible ? "no" : "yes", f.steady_ratio, f.off_axis_mm, f.orientation_deg,
+                  f.origin_mm, f.peak_100ms, f.release, f.ideal_release, f.settle_s, f.spec_pass);
+      ASSERT_TRUE(r.reached);
+      EXPECT_FALSE(f.elbow_flipped);
+      EXPECT_FALSE(f.stuck);
+      EXPECT_EQ(f.lost_steps, 0);
+    }
+  }
+}
+
+}  // namespace
+
+
