@@ -90,7 +90,8 @@ class PlausibilityMonitor {
   // throughout: by default every sample's. Returns the latched flags.
   uint8_t update(int16_t duty_q15, int16_t position, uint8_t samples = 1) { return update(duty_q15, position, samples, samples); }
   // Not inlined: one copy serves the three DC joints (inlined in the caller's loop it took the
-  // registers of the code around it).
+  // registers of the code around it: the firmware's stick gate, 146 cycles a tick more on
+  // average, against its 60 % CPU load at 59.1 %).
   __attribute__((noinline)) uint8_t update(int16_t duty_q15, int16_t position, uint8_t samples, uint8_t motion_samples) {
     if (!configured_) return faults_;
     if (position < c_.rail_low || position > c_.rail_high) {

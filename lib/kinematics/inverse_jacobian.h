@@ -202,7 +202,9 @@ bool turning(const TwistQ1<N>& twist) { return turning<N>(twist.w_q1_rad_s); }
 
 // Each path a function of its own, flattened: both inlined into one, avr-gcc allocated the
 // turning path's registers worse, and unflattened it left the products out of line where
-// they have many callers (the kinematics bench: ~300 and ~500 cycles more on the AVR).
+// they have many callers (the kinematics bench: ~300 and ~500 cycles more on the AVR; the
+// firmware's stick gate, 106 cycles a tick more on average). J^-1's gate is 3,000 cycles, and
+// it takes 2,974 at worst (docs/performance.md).
 template <class N, bool kTurning, class Trig, class TwistT>
 __attribute__((noinline, flatten)) JacobianInverse<N> inverse_jacobian_path(const Trig& t, const TwistT& twist) {
   return inverse_jacobian_of<N, kTurning>(t, twist);
