@@ -14,9 +14,8 @@
 //        d R5/dt = -(s2 a2 qd2 + s23 a3 (qd2 + qd3) + s234 a4 (qd2 + qd3 + qd4)).
 //      The elbow (s3) also brakes in time: |d s3/dt| at most the rate from which it still
 //      stops before the damped band (singular_approach_rate), from |sin q3| < 0.43 on,
-//      before the slow band. The fraction alone lets J^-1's
-//      speeds, which grow as 1 / f, run the elbow into the band faster than it can stop, and
-//      it crossed to the other branch. (c5 = 0 lies at J5's limits, +-90 deg: J5's soft
+//      before the slow band. The fraction alone lets J^-1's speeds, which grow as 1 / f, run
+//      the elbow into the band faster than it can stop, and it crossed to the other branch. (c5 = 0 lies at J5's limits, +-90 deg: J5's soft
 //      limit brakes it before its band, step 3.)
 //   3. Soft joint limits. A joint moving towards a limit may go at its speed limit times
 //      (distance to its soft stop) / zone, 0 at the stop, which lies a margin inside the switch;
@@ -283,7 +282,7 @@ inline uint16_t elbow_braking_q12(fx::Unit c3, const fx::Real* qd) {
 // speed at its own limit it needs 0.35 (the lag, the braking and the damped band); where
 // another joint's limit sets the pace (elbow_braking_q12) it needs more, and J3 then turns the
 // slower for it.
-constexpr int32_t kElbowBrakingFromRaw = 14090;
+constexpr int32_t kElbowBrakingFromRaw = fx::unit(Ratio{43, 100}).raw;
 constexpr bool elbow_braking_from_j3_speed_fits() {
   constexpr double a = 0.75 * 0.9 * config::kJointAccelLimit_crad_s2[2] / 100.0;
   constexpr double v = config::kJointSpeedLimit_crad_s[2] / 100.0;
