@@ -33,6 +33,8 @@ struct Arm {
   // J1's largest change of speed in a tick at this pose (stepper_drives::update_j1_stop): its lag
   // behind its field while it accelerates is part of its stop's travel (config/stop_config.h)
   fx::Real j1_max_change_per_tick;
+  // and slowing down: the acceleration limit the pose's inertia allows (kJ1AccelMultiples)
+  fx::Real j1_max_brake_per_tick;
   Settings* settings;       // in RAM, saved to EEPROM on a change
   Status status;            // the report's; the motion pass leaves what slowed it there
   uint16_t overrun_ms;      // the loop overran: reported while > 0

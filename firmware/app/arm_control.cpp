@@ -222,6 +222,7 @@ void configure(Settings& settings) {
   g_arm.button.configure(control::ButtonConfig{kButtonDebounce_ms, kButtonLongPress_ms});
   for (uint8_t j = 0; j < 6; ++j) g_arm.drives.positive_rad_s[j] = g_arm.drives.negative_rad_s[j] = kMotionLimits.joint[j].speed_rad_s;
   g_arm.j1_max_change_per_tick = kJ1MaxChangeAtWorst;
+  g_arm.j1_max_brake_per_tick = kJ1MaxChangePerTick[0];
   stepper_drives::configure();
   homing::configure();
   dc_drives::configure(settings);

@@ -49,6 +49,9 @@ bool g_gripper_driven;     // the servo has a pulse: the person has moved the gr
 bool g_streaming;          // the last iteration's motion followed a streamed velocity
 bool g_stream_halted;      // the stream stopped arriving: the joints halted, the stick waits for rest
 uint8_t g_stream_halt_ms;
+// The drift correction held off (ms left) after it took part in a motion slowed for a singular factor
+constexpr uint16_t kDriftHoldOff_ms = 500;
+uint16_t g_drift_hold_off_ms;
 
 // The stream's halt lets the DC joints come to rest before the stick drives again; ramping the
 // references down along the stick's ramps instead lets the hand run on 28-34 mm past the last
@@ -102,6 +105,7 @@ void start() {
   g_p_cmd = kin::hand_position<Fixed>(kin::jacobian_trig<Fixed>(g_arm.q.q));
   g_drift_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};  // what it is with the commanded position where the hand is
   g_v_m_s = {fx::Real{0}, fx::Real{0}, fx::Real{0}};
+  g_drift_hold_off_ms = 0;
   for (uint8_t j = 0; j < 6; ++j) g_arm.q.qd_rad_s[j] = fx::Real{0};
   g_stream_halted = g_streaming = false;
 }
@@ -129,18 +133,27 @@ void pass(const control::JoystickOutput& stick, const Requests& rq, uint8_t tick
   // the drift correction goes into the twist; the commanded velocity, without it, is what the
   // commanded position integrates
   const kin::Vec3<fx::Real> v_cmd = twist.v_m_s;
-  twist.v_m_s = {v_cmd.x + g_drift_m_s.x, v_cmd.y + g_drift_m_s.y, v_cmd.z + g_drift_m_s.z};
+  const bool with_drift = g_drift_hold_off_ms == 0;
+  if (with_drift) twist.v_m_s = {v_cmd.x + g_drift_m_s.x, v_cmd.y + g_drift_m_s.y, v_cmd.z + g_drift_m_s.z};
+  else g_drift_hold_off_ms = ticks < g_drift_hold_off_ms ? (uint16_t)(g_drift_hold_off_ms - ticks) : 0;
 
   kin::JacobianInverse<Fixed> inv = kin::inverse_jacobian_wrist<Fixed>(trig, twist);
-  const core::RateScale rates = core::rate_scale(q, trig, inv, kMotionLimits, g_arm.drives);
+  const fx::Unit singular = core::singular_scale(q, trig, inv);
+  // The drift correction never takes the arm towards a singularity, nor blocks the person's
+  // motion there (SPEC 5): a motion slowed for a singular factor goes on without it for
+  // kDriftHoldOff_ms, judged on the person's twist alone, and then the correction is tried
+  // again. (Judging both in the same pass took a second J^-1, and an iteration past its tick.)
+  if (with_drift && singular.raw < fx::kUnitOne) g_drift_hold_off_ms = kDriftHoldOff_ms;
+  const core::RateScale rates = core::joint_rate_scale(singular, q, inv, kMotionLimits, g_arm.drives);
   const uint16_t closed = g_arm.drives.closed_switches;
   const uint8_t slowed_by = closed ? core::named_switch_stop(rates.slowed_by, inv, closed) : rates.slowed_by;
   g_arm.status.slowed_by = (uint8_t)(slowed_by | (tracking.raw < fx::kUnitOne ? core::kSlowTracking : 0));
   // J1 speeding up (or reversing) at most at the pose's bound: its lag behind its field then adds
-  // to a stop's travel; slowing down, the rotor leads its field and a stop shortens its swing
+  // to a stop's travel; slowing down, the rotor leads its field and a stop shortens its swing (at
+  // the acceleration the pose's inertia allows)
   const int32_t j1_now = g_arm.q.qd_rad_s[0].raw, j1_wanted = core::scaled(rates.scale, inv.qd_rad_s[0]).raw;
   const bool j1_speeding_up = j1_now >= 0 ? (j1_wanted > j1_now || j1_wanted < 0) : (j1_wanted < j1_now || j1_wanted > 0);
-  const fx::Real j1_change = j1_speeding_up ? g_arm.j1_max_change_per_tick : kMaxSpeedChangePerTick[0];
+  const fx::Real j1_change = j1_speeding_up ? g_arm.j1_max_change_per_tick : g_arm.j1_max_brake_per_tick;
   fx::Real max_change[6];
   if (ticks != plan::kMotionPeriod_ticks) {
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};

@@ -20,6 +20,15 @@ using namespace config;
 
 const control::StepRateConstants kRampConstantsInFlash[3] PROGMEM = {kRampConstants[0], kRampConstants[1], kRampConstants[2]};
 fx::Real g_j1_stop_speed{0x7FFFFFFF};  // J1's speed from which the hand stops within kStopTravel_mm
+const control::StepRateConstants kJ1RampInFlash[4] PROGMEM = {kJ1RampConstants[0], kJ1RampConstants[1], kJ1RampConstants[2],
+                                                              kJ1RampConstants[3]};
+uint8_t g_j1_level = 0;  // the index of J1's acceleration in kJ1AccelMultiples (its ramp's and its tracking's)
+
+void set_j1_level(uint8_t level) {
+  if (level == g_j1_level) return;
+  g_j1_level = level;
+  steppers::rate(0).set_acceleration(from_flash(kJ1RampInFlash[level]));
+}
 
 // With interrupts off: the stop hook (the safety button's interrupt) reads the interval.
 void set_j1_stop(const control::StopConstants& k) {
@@ -34,7 +43,8 @@ void track_one() {
   constexpr uint8_t j = kStepperJoint[kStepper];
   steppers::Rate& rate = steppers::rate(kStepper);
   const int32_t error = kStepperMap[kStepper].steps(g_arm.q.q.q[j]) - rate.position_steps();
-  rate.set_speed(core::tracking_speed_steps_s(kTracking[kStepper], kStepperMap[kStepper].speed_steps_s(g_arm.q.qd_rad_s[j]), error));
+  const core::StepperTracking& tracking = kStepper == 0 ? kJ1Tracking[g_j1_level] : kTracking[kStepper];
+  rate.set_speed(core::tracking_speed_steps_s(tracking, kStepperMap[kStepper].speed_steps_s(g_arm.q.qd_rad_s[j]), error));
 }
 
 }  // namespace
@@ -60,7 +70,12 @@ fx::Angle angle(uint8_t i) { return angle_of(i, steppers::rate(i).position_steps
 int32_t steps_of(uint8_t i, fx::Angle a) { return kStepperMap[i].steps(a); }
 fx::Angle angle_of(uint8_t i, int32_t steps) { return kStepperMap[i].angle(steps); }
 
-void use_largest_j1_stop() { set_j1_stop(kStopConstants[0]); }
+void use_largest_j1_stop() {
+  set_j1_stop(kStopConstants[0]);
+  set_j1_level(0);
+  g_arm.j1_max_change_per_tick = kJ1MaxChangeAtWorst;
+  g_arm.j1_max_brake_per_tick = kJ1MaxChangePerTick[0];
+}
 
 // The deceleration above the start/stop rate stays the largest inertia's: with the speed bound
 // J1 runs faster than the start/stop rate only within 0.13 m of the base axis (the two speeds'
@@ -75,8 +90,13 @@ void update_j1_stop(const kin::JacobianTrig<kin::Fixed>& trig) {
   if (speed2_q4 > (1ul << 27)) speed2_q4 = 1ul << 27;
   const uint16_t speed_mrad_s = fx::isqrt32(speed2_q4 << 4);
   g_j1_stop_speed = fx::Real{(int32_t)fx::mul_uu(speed_mrad_s, 8388)};  // Q23 rad/s: 8,388.6 a mrad/s
+  uint8_t level = 0;
+  while (level + 1 < sizeof(kJ1AccelMultiples) && fx::mul_uu(inertia_gm2, kJ1AccelMultiples[level + 1]) <= kJ1WorstInertia_gm2) ++level;
+  set_j1_level(level);
+  const fx::Real limit = kJ1MaxChangePerTick[level];
+  g_arm.j1_max_brake_per_tick = limit;
   const uint32_t change = kJ1LagAccelPerTick_q23_x16 / fx::mul_uu(inertia_gm2, reach_mm) * 16;
-  g_arm.j1_max_change_per_tick = fx::Real{(int32_t)(change < (uint32_t)kMaxSpeedChangePerTick[0].raw ? change : kMaxSpeedChangePerTick[0].raw)};
+  g_arm.j1_max_change_per_tick = fx::Real{(int32_t)(change < (uint32_t)limit.raw ? change : limit.raw)};
 }
 
 // (the DC joints' speeds are the governor's, set just before or at its last run)

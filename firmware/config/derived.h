@@ -59,6 +59,22 @@ constexpr control::StepRateConstants kRampConstants[3] = {ramp_constants(0), ram
 static_assert(kRampConstants[0].status == control::RateStatus::ok && kRampConstants[1].status == control::RateStatus::ok &&
                   kRampConstants[2].status == control::RateStatus::ok,
               "a stepper's acceleration or top speed does not fit its ramp (lib/control/step_rate.h)");
+// J1's ramp and tracking at each of kJ1AccelMultiples (stop_config.h)
+constexpr control::StepRateConfig j1_ramp_config(uint8_t level) {
+  return {kRampConfig[0].accel_steps_s2 * kJ1AccelMultiples[level], kStepMinInterval_ticks, kStepMaxInterval_ticks};
+}
+constexpr control::StepRateConstants kJ1RampConstants[4] = {
+    control::step_rate_constants(steppers::kTickHz, steppers::kServiceHz, j1_ramp_config(0)),
+    control::step_rate_constants(steppers::kTickHz, steppers::kServiceHz, j1_ramp_config(1)),
+    control::step_rate_constants(steppers::kTickHz, steppers::kServiceHz, j1_ramp_config(2)),
+    control::step_rate_constants(steppers::kTickHz, steppers::kServiceHz, j1_ramp_config(3))};
+static_assert(kJ1RampConstants[1].status == control::RateStatus::ok && kJ1RampConstants[2].status == control::RateStatus::ok &&
+                  kJ1RampConstants[3].status == control::RateStatus::ok,
+              "kJ1AccelMultiples: J1's fastest acceleration does not fit its ramp (lib/control/step_rate.h)");
+constexpr core::StepperTracking kJ1Tracking[4] = {{kStepperPositionGain_per_s, j1_ramp_config(0).accel_steps_s2},
+                                                  {kStepperPositionGain_per_s, j1_ramp_config(1).accel_steps_s2},
+                                                  {kStepperPositionGain_per_s, j1_ramp_config(2).accel_steps_s2},
+                                                  {kStepperPositionGain_per_s, j1_ramp_config(3).accel_steps_s2}};
 constexpr control::StopConstants stop_constants(uint8_t i) {
   return control::stop_constants(steppers::kTickHz, steppers::kServiceHz, kStopDecel_steps_s2[i], (uint32_t)kStartStop_steps_s[i]);
 }
@@ -80,6 +96,10 @@ static_assert(kJointAccelLimit_crad_s2[0] * 10 <= kStepperAccel_crad_s2[0] * 9 &
                   kJointAccelLimit_crad_s2[4] * 10 <= kStepperAccel_crad_s2[1] * 9 &&
                   kJointAccelLimit_crad_s2[5] * 10 <= kStepperAccel_crad_s2[2] * 9,
               "a stepper's reference accelerates at most 90 % of its ramp's limit, or the ramp cannot catch up");
+// J1's reference's at each of kJ1AccelMultiples
+constexpr fx::Real kJ1MaxChangePerTick[4] = {
+    accel_per_tick(kJointAccelLimit_crad_s2[0] * kJ1AccelMultiples[0]), accel_per_tick(kJointAccelLimit_crad_s2[0] * kJ1AccelMultiples[1]),
+    accel_per_tick(kJointAccelLimit_crad_s2[0] * kJ1AccelMultiples[2]), accel_per_tick(kJointAccelLimit_crad_s2[0] * kJ1AccelMultiples[3])};
 // a DC reference's largest change of speed in one tick
 constexpr int32_t max_of(int32_t a, int32_t b) { return a > b ? a : b; }
 // J1's at the largest inertia and the farthest reach (1.1 m), until the pose is known

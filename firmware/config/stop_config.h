@@ -113,6 +113,15 @@ static_assert(kHomingFast_crad_s[0] * kHomingFast_crad_s[0] * 100.0 <=
               "kHomingFast_crad_s[0]: J1's homing approach must stop within kStopTravel_mm at the hand");
 constexpr uint16_t kJ1RotorAtJoint_gm2 = (uint16_t)(kStepperRotorInertia_gcm2[0] * 1e-4 * stepper_gear(0) * stepper_gear(0) + 1);
 
+// J1's acceleration follows the pose. Its ramp (kStepperAccel_crad_s2[0]) and its reference
+// (kJointAccelLimit_crad_s2[0]) are set for the largest inertia; where the arm's inertia about
+// the base axis (with J1's rotor) is a multiple m smaller, both go m times as fast, and the
+// share of the motor's torque they ask stays the stretched arm's. The hand near the base axis
+// needs J1 fast: at 0.5 rad/s^2 J1 took up to 1.6 s to stop after the stick's release, and the
+// hand ran on up to 111 mm (docs/motion.md).
+constexpr uint8_t kJ1AccelMultiples[4] = {1, 2, 4, 6};
+constexpr uint16_t kJ1WorstInertia_gm2 = (uint16_t)(kStepperLoadInertia_gm2[0] + kJ1RotorAtJoint_gm2);
+
 // --- checks
 constexpr bool stop_config_ok() {
   for (int i = 0; i < 3; ++i) {
@@ -129,6 +138,9 @@ static_assert(kStopTorqueShare_permille >= 200 && kStopTorqueShare_permille <= 9
               "kStopTorqueShare_permille in [200, 900]: all of the holding torque is never there at speed");
 static_assert(kStandstillMove_mdeg >= 200 && kStandstillMove_mdeg <= 5000,
               "kStandstillMove_mdeg in [200, 5000]: above a pot's noise, below a visible move");
+static_assert(kJ1AccelMultiples[0] == 1 && kJ1AccelMultiples[1] > 1 && kJ1AccelMultiples[2] > kJ1AccelMultiples[1] &&
+                  kJ1AccelMultiples[3] > kJ1AccelMultiples[2] && kJ1AccelMultiples[3] <= 10,
+              "kJ1AccelMultiples: 1 (the largest inertia's) first, then rising, at most 10");
 static_assert(kStopTravel_mm >= 3 && kStopTravel_mm <= 10, "kStopTravel_mm in [3, 10]: the stop's 10 mm less the DC joints' share");
 static_assert(kJ1LagTravel_um >= 200 && 4 * kJ1LagTravel_um <= kStopTravel_mm * 1000,
               "kJ1LagTravel_um in [200, kStopTravel_mm / 4]: the most of the stop's travel left to J1's speed");

@@ -5,7 +5,8 @@
 //      singular bands, so qd stays bounded there); the twist's w about the wrist axes
 //      (kin::TwistWrist: what the rotation modes give, kin::twist_wrist turns a base-frame one).
 //   2. Singularity slow-down. For each factor of det J (c5, s3, R5) inside its slow band and
-//      moving towards zero (sign(f) df/dt < 0), the motion may go at most the fraction
+//      moving towards zero (sign(f) df/dt < 0, faster than |f| / 32 s: moving_towards_zero),
+//      the motion may go at most the fraction
 //      (|f| - damp) / (slow - damp) of its speed: 1 at the edge of the slow band, 0 at the
 //      edge of the damped band. Motion that takes f away from zero is not slowed, so the arm
 //      can always be driven back out, and it stops before the damped band, where the
@@ -158,11 +159,21 @@ inline fx::Unit fraction(fx::Real r) {
   return r.raw <= 0 ? fx::Unit{0} : r.raw >= (fx::kUnitOne << 8) ? fx::Unit{(int16_t)fx::kUnitOne} : fx::to_unit(r);
 }
 
-inline bool moving_towards_zero(fx::Unit f, fx::Real rate) { return rate.raw != 0 && (f.raw < 0) != (rate.raw < 0); }
-
 inline fx::Unit smaller(fx::Unit a, fx::Unit b) { return a.raw < b.raw ? a : b; }
 
 inline int16_t magnitude(fx::Unit u) { return u.raw < 0 ? (int16_t)-u.raw : u.raw; }
+
+// f's rate takes it towards zero, faster than |f| / 32 s. A motion that leaves f unchanged (a
+// pure wrist roll) still has a rate from J^-1's rounding, up to 3.4e-4 /s inside the elbow's
+// slow band (RoundingOfAMotionThatLeavesTheElbowDoesNotStopIt); inside the damped band, where
+// the slow-down's fraction is 0, any rate towards zero would stop the whole motion: the arm
+// stuck. A rate below |f| / 32 s falls with f, so such a motion only creeps towards zero and
+// never reaches it. |f| / 32 s in Q23 is the Q15 |f| shifted by 8 - 5.
+inline bool moving_towards_zero(fx::Unit f, fx::Real rate) {
+  if (rate.raw == 0 || (f.raw < 0) == (rate.raw < 0)) return false;
+  return (rate.raw < 0 ? -rate.raw : rate.raw) > ((int32_t)magnitude(f) << 3);
+}
+
 
 // (|f| - damp) / (slow - damp) in [0, 1]
 template <int32_t kDampRaw, int32_t kSlowRaw>
@@ -291,12 +302,9 @@ constexpr bool elbow_braking_from_j3_speed_fits() {
 }
 static_assert(elbow_braking_from_j3_speed_fits(), "the elbow brakes from J3's top speed within |sin q3| < 0.43");
 
-// Steps 2 to 4 for J^-1 twist (inv): the factor s, which the caller applies (scaled(s, qd_j)
-// for each joint: the firmware in its acceleration limit's pass over the joints, without a
-// pass of its own)
+// Step 2 for J^-1 twist (inv): the singular slow-down's factor (1: none)
 template <class Trig>
-RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::JacobianInverse<Fixed>& inv,
-                     const MotionLimits& limits, const DriveSpeeds& drives) {
+fx::Unit singular_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::JacobianInverse<Fixed>& inv) {
   static constexpr fx::Unit kA2 = fx::unit(arm::a2), kA3 = fx::unit(arm::a3), kA4 = fx::unit(arm::a4);
   static constexpr int32_t kDampC5 = fx::unit(arm::kSingularBands.damp_c5).raw;
   static constexpr int32_t kSlowC5 = fx::unit(arm::kSingularBands.slow_c5).raw;
@@ -307,14 +315,9 @@ RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin:
 
   const fx::Real* qd = inv.qd_rad_s;
   const auto& f = inv.factors;
-  RateScale out;
-  out.status = inv.status;
-  out.slowed_by = 0;
-  fx::Unit s{(int16_t)fx::kUnitOne};
-
-  // 2. singular factors moving towards zero (each rate only inside its slow band: away from
-  // the singularities, most of the time, it is not needed)
-  fx::Unit singular = s;
+  // singular factors moving towards zero (each rate only inside its slow band: away from the
+  // singularities, most of the time, it is not needed)
+  fx::Unit singular{(int16_t)fx::kUnitOne};
   if (magnitude(f.c5) < kSlowC5 && moving_towards_zero(f.c5, -(t.s5 * qd[4]))) {
     singular = smaller(singular, singular_fraction<kDampC5, kSlowC5>(f.c5));
   }
@@ -332,12 +335,19 @@ RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin:
     const fx::Real r5_rate = -((t.s2 * kA2) * qd[1] + (t.s23 * kA3) * qd23 + (t.s234 * kA4) * (qd23 + qd[3]));
     if (moving_towards_zero(f.r5, r5_rate)) singular = smaller(singular, singular_fraction<kDampR5, kSlowR5>(f.r5));
   }
-  if (singular.raw < s.raw) {
-    s = singular;
-    out.slowed_by |= kSlowSingular;
-  }
+  return singular;
+}
 
-  // 3. and 4. soft joint limits and joint speed limits
+// Steps 3 and 4 for J^-1 twist (inv), given step 2's factor: the common factor s, which the
+// caller applies (scaled(s, qd_j) for each joint: the firmware in its acceleration limit's pass
+// over the joints, without a pass of its own)
+inline RateScale joint_rate_scale(fx::Unit singular, const kin::JointAngles<Fixed>& q, const kin::JacobianInverse<Fixed>& inv,
+                                  const MotionLimits& limits, const DriveSpeeds& drives) {
+  const fx::Real* qd = inv.qd_rad_s;
+  RateScale out;
+  out.status = inv.status;
+  out.slowed_by = singular.raw < fx::kUnitOne ? kSlowSingular : 0;
+  fx::Unit s = singular;
   for (uint8_t j = 0; j < arm::kJoints; ++j) {
     const JointMotionLimits& limit = limits.joint[j];
     fx::Real allowed = limit.speed_rad_s;
@@ -360,6 +370,13 @@ RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin:
 
   out.scale = s;
   return out;
+}
+
+// Steps 2 to 4
+template <class Trig>
+RateScale rate_scale(const kin::JointAngles<Fixed>& q, const Trig& t, const kin::JacobianInverse<Fixed>& inv,
+                     const MotionLimits& limits, const DriveSpeeds& drives) {
+  return joint_rate_scale(singular_scale(q, t, inv), q, inv, limits, drives);
 }
 
 // rate_scale counts a closed switch's creep as a drive's speed (kSlowDriveLoad). A joint whose

@@ -215,6 +215,12 @@ class StepRate {
     stop();
     quick_ = true;
   }
+  // Another acceleration limit for the same ramp, while it runs: k from the same intervals as
+  // the configured constants (the speed and any move carry on; a move's braking distance,
+  // MoveSpeed, stays the one it was made with: made for the lowest limit, it brakes early).
+  void set_acceleration(const StepRateConstants& k) {
+    if (k.status == RateStatus::ok && k.min_interval_q8 == k_.min_interval_q8 && k.max_interval_q8 == k_.max_interval_q8) k_ = k;
+  }
   void configure_stop(const StopConstants& s) { stop_ = s; }
   const StopConstants& stop_constants() const { return stop_; }
 

@@ -40,6 +40,11 @@ core::JointRates rates(const ref::Joints& q, const kin::Twist<Fixed>& t) {
 
 double limit_rad_s(int j) { return config::kJointSpeedLimit_crad_s[j] / 100.0; }
 
+// R5, the joint-5 origin's distance from the base axis (m)
+double ref_r5(const ref::Joints& q) {
+  return arm::a1_m + std::cos(q[1]) * arm::a2_m + std::cos(q[1] + q[2]) * arm::a3_m + std::cos(q[1] + q[2] + q[3]) * arm::a4_m;
+}
+
 TEST(WristAxes, MatchTheDhFrameFive) {
   std::mt19937_64 rng(31);
   double worst_double = 0, worst_fixed = 0;
@@ -469,3 +474,35 @@ TEST(JointAcceleration, EveryChangeWithinItsLimit) {
 }
 
 }  // namespace
+
+// Never stuck (SPEC 5): a turn about y5, the axis of J6 (R1's and R2's stick X), leaves the elbow
+// as it is, and goes on at full speed inside the elbow's slow and damped bands, where J^-1's
+// rounding still gives sin q3 a small rate (that rate printed: moving_towards_zero's |f| / 32 s
+// must stay above it).
+TEST(ResolvedRate, RoundingOfAMotionThatLeavesTheElbowDoesNotStopIt) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> s3(0.015, 0.2);
+  const double damp = to_double(arm::kSingularBands.damp_s3);
+  double worst_rate = 0, worst_ratio = 0;
+  int inside_damped = 0;
+  for (int n = 0; n < 20000; ++n) {
+    ref::Joints q = ref::random_joints(rng);
+    q[2] = std::asin(s3(rng)) * (n % 2 ? 1 : -1);
+    if (std::fabs(std::cos(q[4])) < 0.25 || ref_r5(q) < 0.2) continue;  // clear of the other factors' bands
+    inside_damped += std::fabs(std::sin(q[2])) < damp;
+    for (config::Mode mode : {config::Mode::r1, config::Mode::r2}) {
+      for (double x : {-0.999, 0.999}) {
+        const auto qf = to_fixed(q);
+        const auto trig = kin::arm_trig<Fixed>(qf);
+        const auto r = core::resolved_rate(qf, trig, core::stick_twist(mode, core::Stick{fx::unit(x), fx::Unit{0}}), kLimits);
+        const double rate = std::fabs(std::cos(q[2]) * fx::to_double(r.qd_rad_s[2]));
+        worst_rate = std::max(worst_rate, rate);
+        worst_ratio = std::max(worst_ratio, rate / (std::fabs(std::sin(q[2])) / 32));
+        ASSERT_EQ(r.slowed_by & core::kSlowSingular, 0) << "sin q3 " << std::sin(q[2]) << " mode " << (int)mode << " x " << x;
+      }
+    }
+  }
+  std::printf("a turn about y5 inside the elbow's slow band: d(sin q3)/dt at most %.2g /s from rounding, %.2f of |sin q3| / 32 s\n",
+              worst_rate, worst_ratio);
+  EXPECT_GT(inside_damped, 1000);
+}

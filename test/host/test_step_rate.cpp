@@ -409,3 +409,35 @@ TEST(StepRate, PositionOnlySetAtRest) {
 }
 
 }  // namespace
+
+// Another acceleration limit while the ramp runs (J1's follows the pose): the speed carries on,
+// the ramp then changes speed at the new limit (and never above it), and constants of other
+// intervals (another ramp's) or refused ones are ignored.
+TEST(StepRate, AccelerationChangedWhileRunning) {
+  const StepRateConfig j1x6{kJ1.accel_steps_s2 * 6, kJ1.min_interval_ticks, kJ1.max_interval_ticks};
+  Channel ch;
+  ASSERT_EQ(ch.rate.configure(constants(kJ1)), RateStatus::ok);
+  for (int n = 0; n < 2000; ++n) {
+    ch.rate.set_speed(1500);
+    ch.tick();
+  }
+  ASSERT_NEAR(speed_steps_s(ch.rate), 1500, 1);
+  ch.rate.set_acceleration(constants(j1x6));
+  EXPECT_NEAR(speed_steps_s(ch.rate), 1500, 1) << "the speed carries on";
+  std::vector<double> v;
+  int ticks_to_rest = 0;
+  for (; ticks_to_rest < 5000 && ch.rate.speed_q8() != 0; ++ticks_to_rest) {
+    ch.rate.set_speed(0);
+    ch.tick();
+    v.push_back(speed_steps_s(ch.rate));
+  }
+  expect_acceleration_within_limit(v, ch.rate.constants(), 1);
+  // 1500 steps/s at 6 x 1222 steps/s^2: 0.2 s (at kJ1's own, 1.2 s)
+  EXPECT_NEAR(ticks_to_rest, 1500.0 / j1x6.accel_steps_s2 * kLoopHz, 10);
+  StepRateConfig other = j1x6;
+  other.min_interval_ticks = 20;
+  ch.rate.set_acceleration(constants(other));
+  EXPECT_EQ(ch.rate.constants().min_interval_q8, constants(kJ1).min_interval_q8) << "another ramp's intervals";
+  ch.rate.set_acceleration(constants(StepRateConfig{0, 12, 12500}));
+  EXPECT_EQ(ch.rate.constants().two_a, constants(j1x6).two_a) << "refused constants";
+}

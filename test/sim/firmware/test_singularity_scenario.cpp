@@ -147,4 +147,55 @@ TEST(SingularityScenario, S7StretchingTheElbowStaysWithinJointSpeedsAndDrivesBac
   EXPECT_EQ(rig.state(), core::ArmState::running);
 }
 
+// Never stuck (SPEC 5): with the elbow stopped at the stretch and the stick released, the wrist
+// still turns about y5 (R1's and R2's stick X: J6's axis), which leaves the elbow as it is, at
+// the stick's speed; the drift correction's pull and J^-1's rounding do not block it. The elbow
+// stays on its branch throughout.
+TEST(SingularityScenario, AtTheStretchTheWristStillTurns) {
+  Rig rig(kFirmware);
+  const double t_running = rig.start(12.0);
+  ASSERT_GT(t_running, 0) << "never running";
+  double t = t_running + 1.0;
+  rig.run_to(t);
+  const double s3_start = std::sin(rig.pose().q[2]);
+  double closest_s3 = 1;
+  bool crossed = false;
+  rig.sim.every(kSampleS, [&](const sim::ArmSimulator& s) {
+    closest_s3 = std::min(closest_s3, std::fabs(std::sin(s.q()[2])));
+    crossed |= (std::sin(s.q()[2]) > 0) != (s3_start > 0);
+  });
+  rig.sim.set_joystick(kStickOutX, kStickOutY);
+  rig.run_to(t += kOutS + kHoldS);
+  rig.sim.set_joystick(0, 0);
+  rig.run_to(t += 1.0);
+  const double s3_stretched = std::fabs(std::sin(rig.pose().q[2]));
+  ASSERT_LT(s3_stretched, to_double(arm::kSingularBands.slow_s3)) << "the elbow did not reach the stretch";
+  for (config::Mode mode : {config::Mode::r1, config::Mode::r2}) {
+    while (rig.last().mode != (uint8_t)mode) {  // short presses to the mode
+      rig.sim.set_button(true);
+      rig.run_to(t += plant::kButtonPressS);
+      rig.sim.set_button(false);
+      rig.run_to(t += 0.3);
+    }
+    for (double x : {1.0, -1.0}) {
+      const double q6_before = rig.pose().q[5];
+      const double t_turn = t;
+      rig.sim.set_joystick(x, 0);
+      rig.run_to(t += 1.5);
+      rig.sim.set_joystick(0, 0);
+      rig.run_to(t += 0.7);
+      const double turned = (rig.pose().q[5] - q6_before) * x;
+      // the ideal: the stick's ramps (0.3 s) and 0.8 rad/s for the rest of 1.5 s, ~1.08 rad
+      std::printf("at the stretch (|sin q3| %.3f), %s stick X %+.0f: J6 turned %.3f rad in %.1f s (slowed_by %u)\n",
+                  std::fabs(std::sin(rig.pose().q[2])), mode == config::Mode::r1 ? "R1" : "R2", x, turned, t - t_turn,
+                  (unsigned)rig.last().slowed_by);
+      EXPECT_GT(turned, 0.9) << (mode == config::Mode::r1 ? "R1" : "R2") << " stick X " << x;
+    }
+  }
+  std::printf("closest |sin q3| %.4f\n", closest_s3);
+  EXPECT_FALSE(crossed) << "the elbow passed through the stretch";
+  EXPECT_GT(closest_s3, 0.8 * to_double(arm::kSingularBands.damp_s3));
+  EXPECT_EQ(rig.state(), core::ArmState::running);
+}
+
 }  // namespace

@@ -90,11 +90,32 @@ inline Twist mode_twist(config::Mode mode, std::array<double, 2> s, const Joints
 enum Ineligible : unsigned {
   kSlowBand = 1,   // |cos q5|, |sin q3| or R5 inside the firmware's slow bands
   kSoftZone = 2,   // a joint within the soft-limit margin and zone of its limit
-  kSpeedLimit = 4  // a joint asked to turn faster than its speed limit
+  kSpeedLimit = 4,  // a joint asked to turn faster than its speed limit
+  // a factor inside its slow band taken towards zero within the first kApproachWindow_s of the
+  // hold: the motion the firmware rightly slows to a stop (SPEC 5), so the arm staying put is
+  // not "stuck"
+  kTowardsSingular = 8
 };
+constexpr double kApproachWindow_s = 1.0;
 
 inline double r5_m(const Joints& q) {
   return arm::a1_m + std::cos(q[1]) * arm::a2_m + std::cos(q[1] + q[2]) * arm::a3_m + std::cos(q[1] + q[2] + q[3]) * arm::a4_m;
+}
+
+// the singular factors |cos q5|, |sin q3|, R5 (m) as fractions of their slow bands (< 1: inside)
+inline std::array<double, 3> band_fractions(const Joints& q) {
+  const auto ratio = [](Ratio r) { return (double)r.num / r.den; };
+  const arm::SingularBands& b = arm::kSingularBands;
+  return {std::fabs(std::cos(q[4])) / ratio(b.slow_c5), std::fabs(std::sin(q[2])) / ratio(b.slow_s3), r5_m(q) / ratio(b.slow_r5_m)};
+}
+// a factor inside its slow band that the step qd dt takes towards zero
+inline bool approaches_singular(const Joints& q, const Eigen::Matrix<double, 6, 1>& qd, double dt_s) {
+  Joints next = q;
+  for (int j = 0; j < 6; ++j) next[j] += qd[j] * dt_s;
+  const std::array<double, 3> now = band_fractions(q), then = band_fractions(next);
+  for (int i = 0; i < 3; ++i)
+    if (now[i] < 1 && then[i] < now[i]) return true;
+  return false;
 }
 
 inline unsigned ineligible_at(const Joints& q, const Eigen::Matrix<double, 6, 1>& qd) {
@@ -123,7 +144,9 @@ class IdealArm {
     twist << t.v, t.w;
     const Eigen::Matrix<double, 6, 1> qd = ref::geometric_jacobian(q_).partialPivLu().solve(twist);
     why_ |= ineligible_at(q_, qd);
+    if (t_s_ < kApproachWindow_s && approaches_singular(q_, qd, dt_s)) why_ |= kTowardsSingular;
     for (int j = 0; j < 6; ++j) q_[j] += qd[j] * dt_s;
+    t_s_ += dt_s;
   }
   const Joints& q() const { return q_; }
   unsigned ineligible() const { return why_; }
@@ -132,6 +155,7 @@ class IdealArm {
   Joints q_;
   StickShaper stick_;
   unsigned why_ = 0;
+  double t_s_ = 0;
 };
 
 }  // namespace sweep

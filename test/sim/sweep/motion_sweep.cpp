@@ -2,7 +2,8 @@
 // from seeded poses, in every mode and stick direction, each test judged on the plant's true
 // joint angles against an ideal resolved-rate arm fed the same stick (sweep_figures.h). Writes
 // one CSV row per test; scripts/motion-sweep runs the poses side by side and prints the tables.
-//   motion_sweep --elf FIRMWARE.elf --poses FIRST:COUNT [--seed N] [--modes XY,XZ,R1,R2] [--tests N] > out.csv
+//   motion_sweep --elf FIRMWARE.elf --poses FIRST:COUNT [--seed N] [--modes XY,XZ,R1,R2] [--tests N]
+//                [--trace "MODE:TEST"] > out.csv
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -18,7 +19,10 @@ using namespace wmra::sweep;
 void usage(FILE* f) {
   std::fprintf(f,
                "usage: motion_sweep --elf FIRMWARE.elf --poses FIRST:COUNT [--seed N] [--modes XY,XZ,R1,R2] [--tests N]\n"
-               "  one CSV row per stick test on stdout; --tests N: the first N tests of each mode only\n");
+               "                    [--trace \"MODE:TEST\"]\n"
+               "  one CSV row per stick test on stdout; --tests N: the first N tests of each mode only;\n"
+               "  --trace \"XY:+x 0.6\": that test alone, its row and then its samples as '#' lines (time, hand\n"
+               "  progress along the command and distance off it in mm, speed over 10 ms in mm/s or deg/s, q in rad)\n");
 }
 
 void print_header() {
@@ -35,10 +39,33 @@ void print_row(const TestResult& r) {
   std::fflush(stdout);
 }
 
+// a test's samples: the hand's progress along the command and off its line (linear modes) or
+// the angle turned (rotation), and the joints
+void print_trace(const StickTest& test, const std::vector<plant::Joints>& samples) {
+  if (samples.empty()) return;
+  const bool linear = test.mode == config::Mode::xy || test.mode == config::Mode::xz;
+  Eigen::Vector3d u;
+  commanded_speed(test.mode, test.x, test.y, samples[0], &u);
+  const Pose p0 = pose_of(samples[0]);
+  Pose previous = p0;
+  double turned = 0;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    const Pose p = pose_of(samples[i]);
+    const Eigen::Vector3d d = p.p - p0.p;
+    const double step = linear ? (p.p - previous.p).norm() * 1000 : angle_between(previous.r, p.r) * 180 / arm::kPi;
+    turned += linear ? 0 : step;
+    std::printf("# %.2f %9.3f %7.3f %8.2f", i * kSample_s, linear ? d.dot(u) * 1000 : turned, linear ? (d - d.dot(u) * u).norm() * 1000 : d.norm() * 1000,
+                step / kSample_s);
+    for (int j = 0; j < 6; ++j) std::printf(" %.5f", samples[i][j]);
+    std::printf("\n");
+    previous = p;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string elf, modes = "XY,XZ,R1,R2";
+  std::string elf, modes = "XY,XZ,R1,R2", trace;
   int first = 0, count = 0, tests = 1000;
   uint32_t seed = 1;
   for (int i = 1; i < argc; ++i) {
@@ -55,6 +82,8 @@ int main(int argc, char** argv) {
       seed = (uint32_t)std::strtoul(argv[++i], nullptr, 10);
     } else if (a == "--modes" && has_value) {
       modes = argv[++i];
+    } else if (a == "--trace" && has_value) {
+      trace = argv[++i];
     } else if (a == "--tests" && has_value) {
       tests = std::atoi(argv[++i]);
     } else {
@@ -78,7 +107,11 @@ int main(int argc, char** argv) {
     for (config::Mode mode : kModes) {
       if (modes.find(mode_name(mode)) == std::string::npos) continue;
       const std::vector<StickTest> list = stick_tests(mode);
-      for (int t = 0; t < (int)list.size() && t < tests; ++t) print_row(run.run(list[t]));
+      for (int t = 0; t < (int)list.size() && t < tests; ++t) {
+        if (!trace.empty() && trace != std::string(mode_name(mode)) + ":" + list[t].name) continue;
+        print_row(run.run(list[t]));
+        if (!trace.empty()) print_trace(list[t], run.samples());
+      }
     }
   }
   return 0;

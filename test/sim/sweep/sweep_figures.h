@@ -33,7 +33,9 @@ struct Figures {
   double settle_s = kNone;      // release to the last sample faster than 5 mm/s (2 deg/s)
   int elbow_crossings = 0;      // sin q3 changed sign
   bool elbow_flipped = false;   // and ended on the other branch
-  bool stuck = false;           // the ideal arm went >= 20 mm (10 deg), the arm < 10 % of that
+  // the ideal arm went >= 20 mm (10 deg), the arm < 10 % of that, and the ideal motion took no
+  // singular factor towards zero at first (kTowardsSingular: there the firmware stops it)
+  bool stuck = false;
   long long lost_steps = 0;
   int spec_pass = -1;           // S1/S2 (linear) or S3 (rotation): 1 pass, 0 fail, -1 not an S test (reversal)
 };
@@ -142,7 +144,8 @@ inline Figures figures(const StickTest& test, const std::vector<Joints>& measure
   f.elbow_flipped = (std::sin(measured[n - 1][2]) > 0) != (std::sin(measured[0][2]) > 0);
   const double ideal_held = i_release < n ? (linear ? (id[i_release].p - id[0].p).norm() : ideal_progress[i_release]) : 0;
   const double held = i_release < n ? (linear ? (m[i_release].p - m[0].p).norm() : progress[i_release]) : 0;
-  f.stuck = ideal_held >= (linear ? 0.020 : arm::deg_to_rad(10)) && held < 0.1 * ideal_held && !test.reversal();
+  f.stuck = ideal_held >= (linear ? 0.020 : arm::deg_to_rad(10)) && held < 0.1 * ideal_held && !test.reversal() &&
+            !(f.ineligible & kTowardsSingular);
   if (linear) {
     f.off_axis_mm = off * 1000;
     f.orientation_deg = turn * 180 / arm::kPi;
