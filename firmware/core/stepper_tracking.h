@@ -27,10 +27,18 @@ struct StepperTracking {
   uint32_t e_max = 0xFFFFFFFFu / (uint32_t)accel_steps_s2;  // a e within 32 bits
 };
 
+// A step's error is left alone: the ramp starts at its slowest speed (a step per 50 ms, the
+// linear term's for one step) and stops within a step of it, so correcting one step made the
+// joint step back and forth about a reference that creeps (the drift correction's, ~1 mrad/s at
+// rest after a motion): J6 did, a step every 50 ms, for as long as it crept.
+constexpr uint32_t kTrackingDeadband_steps = 1;
+
 inline int32_t tracking_speed_steps_s(const StepperTracking& c, int32_t reference_speed_steps_s, int32_t error_steps) {
   const uint32_t e = (uint32_t)(error_steps < 0 ? -error_steps : error_steps);
   uint32_t correction;
-  if (e <= c.linear_up_to) {
+  if (e <= kTrackingDeadband_steps) {
+    correction = 0;
+  } else if (e <= c.linear_up_to) {
     correction = e * (uint32_t)c.gain_per_s;
   } else {
     correction = fx::isqrt32((uint32_t)c.accel_steps_s2 * (e < c.e_max ? e : c.e_max));

@@ -70,6 +70,9 @@ TEST(StepperTracking, ReferenceSpeedPassesThrough) {
   EXPECT_EQ(core::tracking_speed_steps_s(tracking, 100, 2), 140);    // linear: 2 <= 1222 / 400
   EXPECT_EQ(core::tracking_speed_steps_s(tracking, 0, -100), -349);  // sqrt(1222 x 100)
   EXPECT_GT(core::tracking_speed_steps_s(tracking, 0, 1 << 30), 0);  // no overflow
+  // a step's error is left alone (kTrackingDeadband_steps): the reference's speed alone
+  EXPECT_EQ(core::tracking_speed_steps_s(tracking, 0, 1), 0);
+  EXPECT_EQ(core::tracking_speed_steps_s(tracking, -3, -1), -3);
 }
 
 }  // namespace

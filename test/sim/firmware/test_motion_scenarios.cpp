@@ -290,3 +290,48 @@ TEST(FirmwareMotion, R2AtTheReadyPoseIsSlowedWithinTheJointLimits) {
 
 }  // namespace
 
+
+// Nothing moves that nobody asked to move: once the hand has come to rest after the stick's
+// release, no stepper takes a step and no joint turns, for seconds, after motions in each
+// mode. (The drift correction's references creep at ~1 mrad/s at rest, about a count of a DC
+// pot; the steppers followed them a step forth and back every 50 ms.)
+TEST(FirmwareMotion, NothingMovesAtRestAfterTheStick) {
+  test::Rig rig(kFirmware);
+  const double t_running = rig.start(12.0);
+  ASSERT_GT(t_running, 0) << "never running";
+  double t = t_running + 1.0;
+  rig.run_to(t);
+  struct Push {
+    int presses;  // short presses before it: to the next mode
+    double x, y;
+  };
+  for (const Push& p : {Push{0, 0.6, 0}, Push{0, 0, -1}, Push{0, 0.3, 0.3}, Push{1, 0, 0.6}, Push{1, 0.5, 0}}) {
+    for (int i = 0; i < p.presses; ++i) {
+      rig.sim.set_button(true);
+      rig.run_to(t += plant::kButtonPressS);
+      rig.sim.set_button(false);
+      rig.run_to(t += 0.3);
+    }
+    rig.sim.set_joystick(p.x, p.y);
+    rig.run_to(t += 2.0);
+    rig.sim.set_joystick(0, 0);
+    rig.run_to(t += 1.0);  // at rest within 0.7 s of the release (SPEC 5)
+    const sim::Measurements before = rig.sim.measurements();
+    const plant::Joints q_before = rig.pose().q;
+    double moved_rad[6] = {};
+    const double t_rest = t;
+    for (; t < t_rest + 3.0;) {
+      rig.run_to(t += 0.01);
+      for (int j = 0; j < 6; ++j) moved_rad[j] = std::max(moved_rad[j], std::fabs(rig.pose().q[j] - q_before[j]));
+    }
+    const sim::Measurements after = rig.sim.measurements();
+    std::printf("at rest after mode %u stick %.1f %.1f: steps J1 %lld J5 %lld J6 %lld; largest turn %.2f %.2f %.2f %.2f %.2f %.2f mrad\n",
+                (unsigned)rig.last().mode, p.x, p.y, (long long)(after.steps[0].commanded - before.steps[0].commanded),
+                (long long)(after.steps[1].commanded - before.steps[1].commanded),
+                (long long)(after.steps[2].commanded - before.steps[2].commanded), 1000 * moved_rad[0], 1000 * moved_rad[1],
+                1000 * moved_rad[2], 1000 * moved_rad[3], 1000 * moved_rad[4], 1000 * moved_rad[5]);
+    for (int s = 0; s < 3; ++s) EXPECT_EQ(after.steps[s].commanded, before.steps[s].commanded) << "stepper " << s;
+    for (int j = 0; j < 6; ++j) EXPECT_LT(moved_rad[j], 1e-3) << "J" << j + 1;
+  }
+  EXPECT_EQ(rig.state(), core::ArmState::running);
+}
