@@ -35,6 +35,10 @@ struct Arm {
   fx::Real j1_max_change_per_tick;
   // and slowing down: the acceleration limit the pose's inertia allows (kJ1AccelMultiples)
   fx::Real j1_max_brake_per_tick;
+  // J5's towards lifting the wrist at this pose (speeding up a lift, slowing a lowering): the
+  // torque its motor has left beyond the wrist's gravity (stepper_drives::update_wrist_load)
+  fx::Real j5_max_change_per_tick;
+  int8_t j5_lift_way;  // the way J5 turns to lift the wrist: +1, -1, or 0 (no gravity about it)
   Settings* settings;       // in RAM, saved to EEPROM on a change
   Status status;            // the report's; the motion pass leaves what slowed it there
   uint16_t overrun_ms;      // the loop overran: reported while > 0

@@ -124,7 +124,7 @@ void drives_on() {
 // kArrivedTolerance_mdeg of a move's target would otherwise go on to it with the stick neutral.
 void start_running() {
   drives_on();
-  stepper_drives::limit_speeds();
+  stepper_drives::limit_speeds(true);
   motion::start();
   g_moving = false;
 }
@@ -159,13 +159,14 @@ void pose_jobs(uint16_t jobs, bool stick_drives) {
   if (jobs & (stick_drives ? plan::kHolding : plan::kHoldingIdle)) {
     const kin::JacobianTrig<kin::Fixed>& trig = motion::holding_trig(stick_drives);
     dc_drives::update_holding(trig);
+    stepper_drives::update_wrist_load(trig);
     if (stick_drives) motion::update_drift(trig);
     g_governor_due = g_holding_governs = !g_holding_governs;
   } else if (jobs & (stick_drives ? plan::kGovernor : plan::kGovernorIdle)) {
     if (g_governor_due) {
       g_governor_due = false;
       dc_drives::update_governor();
-      stepper_drives::limit_speeds();
+      stepper_drives::limit_speeds(stick_drives);
     } else if (g_arm.homed) {
       stepper_drives::update_j1_stop(motion::last_trig());
     }
@@ -223,6 +224,8 @@ void configure(Settings& settings) {
   for (uint8_t j = 0; j < 6; ++j) g_arm.drives.positive_rad_s[j] = g_arm.drives.negative_rad_s[j] = kMotionLimits.joint[j].speed_rad_s;
   g_arm.j1_max_change_per_tick = kJ1MaxChangeAtWorst;
   g_arm.j1_max_brake_per_tick = kJ1MaxChangePerTick[0];
+  g_arm.j5_max_change_per_tick = kMaxSpeedChangePerTick[4];
+  g_arm.j5_lift_way = 0;
   stepper_drives::configure();
   homing::configure();
   dc_drives::configure(settings);

@@ -27,7 +27,7 @@ using kin::Fixed;
 
 // each joint reference's largest change of speed in a motion pass
 constexpr fx::Real per_pass(uint8_t j) { return fx::Real{kMaxSpeedChangePerTick[j].raw * plan::kMotionPeriod_ticks}; }
-// (J1's entry follows the pose: g_arm.j1_max_change_per_tick)
+// (J1's and J5's entries follow the pose: g_arm.j1_max_change_per_tick, j5_max_change_per_tick)
 fx::Real g_max_speed_change_per_pass[6] = {per_pass(0), per_pass(1), per_pass(2), per_pass(3), per_pass(4), per_pass(5)};
 // The drift correction's hand position goes with the holding effort (plan::kHolding): its time
 // constant is 1 / kDriftGain_per_s, and the error it corrects (the integrated references'
@@ -154,12 +154,18 @@ void pass(const control::JoystickOutput& stick, const Requests& rq, uint8_t tick
   const int32_t j1_now = g_arm.q.qd_rad_s[0].raw, j1_wanted = core::scaled(rates.scale, inv.qd_rad_s[0]).raw;
   const bool j1_speeding_up = j1_now >= 0 ? (j1_wanted > j1_now || j1_wanted < 0) : (j1_wanted < j1_now || j1_wanted > 0);
   const fx::Real j1_change = j1_speeding_up ? g_arm.j1_max_change_per_tick : g_arm.j1_max_brake_per_tick;
+  // J5's change towards lifting the wrist at most what its motor's torque left beyond gravity gives
+  const int32_t j5_change_raw = core::scaled(rates.scale, inv.qd_rad_s[4]).raw - g_arm.q.qd_rad_s[4].raw;
+  const bool j5_towards_lift = g_arm.j5_lift_way > 0 ? j5_change_raw > 0 : g_arm.j5_lift_way < 0 && j5_change_raw < 0;
+  const fx::Real j5_change = j5_towards_lift ? g_arm.j5_max_change_per_tick : kMaxSpeedChangePerTick[4];
   fx::Real max_change[6];
   if (ticks != plan::kMotionPeriod_ticks) {
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};
     max_change[0] = fx::Real{j1_change.raw * ticks};
+    max_change[4] = fx::Real{j5_change.raw * ticks};
   } else {
     g_max_speed_change_per_pass[0] = fx::Real{j1_change.raw * plan::kMotionPeriod_ticks};
+    g_max_speed_change_per_pass[4] = fx::Real{j5_change.raw * plan::kMotionPeriod_ticks};
   }
   const fx::Unit k = core::limit_joint_acceleration(g_arm.q.qd_rad_s, inv.qd_rad_s, rates.scale,
                                                     ticks == plan::kMotionPeriod_ticks ? g_max_speed_change_per_pass : max_change);

@@ -7,6 +7,7 @@
 #include "app/flash_config.h"
 #include "config/derived.h"
 #include "core/base_inertia.h"
+#include "core/gravity.h"
 #include "drivers/inputs.h"
 #include "drivers/steppers.h"
 
@@ -23,6 +24,9 @@ fx::Real g_j1_stop_speed{0x7FFFFFFF};  // J1's speed from which the hand stops w
 const control::StepRateConstants kJ1RampInFlash[4] PROGMEM = {kJ1RampConstants[0], kJ1RampConstants[1], kJ1RampConstants[2],
                                                               kJ1RampConstants[3]};
 uint8_t g_j1_level = 0;  // the index of J1's acceleration in kJ1AccelMultiples (its ramp's and its tracking's)
+// the way J5 may not turn (it would lift the wrist with more than its motor's planned torque):
+// 0 none, +1 or -1
+int8_t g_j5_no_lift = 0;
 
 void set_j1_level(uint8_t level) {
   if (level == g_j1_level) return;
@@ -99,14 +103,41 @@ void update_j1_stop(const kin::JacobianTrig<kin::Fixed>& trig) {
   g_arm.j1_max_change_per_tick = fx::Real{(int32_t)(change < (uint32_t)limit.raw ? change : limit.raw)};
 }
 
+// The torque left beyond gravity's, over the wrist's largest inertia (with J5's rotor through
+// its gear), is J5's acceleration: a change per tick (Q23 rad/s) per Q14 of the planned torque,
+// x 2^10. At least kJ5FloorAccel_crad_s2: a wrist that cannot lift still slows its lowering.
+constexpr double kJ5Inertia_kgm2 = kStepperLoadInertia_gm2[1] * 1e-3 + kStepperRotorInertia_gcm2[1] * 1e-7 * stepper_gear(1) * stepper_gear(1);
+constexpr uint16_t kJ5ChangePerQ14_x1024 =
+    (uint16_t)(core::gravity_detail::kJ5PlannedTorque_Nm / kJ5Inertia_kgm2 / kLoopHz * 8388608.0 / 16384.0 * 1024.0);
+static_assert(core::gravity_detail::kJ5PlannedTorque_Nm / kJ5Inertia_kgm2 / kLoopHz * 8388608.0 / 16384.0 * 1024.0 < 65536.0,
+              "J5's acceleration per Q14 of its torque fits 16 bits");
+constexpr int16_t kJ5FloorAccel_crad_s2 = 35;
+constexpr fx::Real kJ5FloorChange = accel_per_tick(kJ5FloorAccel_crad_s2);
+
+void update_wrist_load(const kin::JacobianTrig<kin::Fixed>& trig) {
+  const int16_t gravity = core::wrist_gravity_q14(trig);
+  const int16_t left = (int16_t)(16384 - (gravity < 0 ? -gravity : gravity));
+  // lifting turns J5 against gravity
+  g_arm.j5_lift_way = gravity > 0 ? -1 : gravity < 0 ? 1 : 0;
+  g_j5_no_lift = left > 0 ? 0 : g_arm.j5_lift_way;
+  const uint32_t change = left > 0 ? fx::mul_uu((uint16_t)left, kJ5ChangePerQ14_x1024) >> 10 : 0;
+  g_arm.j5_max_change_per_tick = fx::Real{(int32_t)(change > (uint32_t)kMaxSpeedChangePerTick[4].raw ? kMaxSpeedChangePerTick[4].raw
+                                                    : change < (uint32_t)kJ5FloorChange.raw ? kJ5FloorChange.raw : change)};
+}
+
+void free_wrist_lift() { g_arm.drives.positive_rad_s[4] = g_arm.drives.negative_rad_s[4] = kMotionLimits.joint[4].speed_rad_s; }
+
 // (the DC joints' speeds are the governor's, set just before or at its last run)
-void limit_speeds() {
+void limit_speeds(bool resolved_rate) {
   core::DriveSpeeds& drives = g_arm.drives;
   for (uint8_t i = 0; i < 3; ++i) {
     const uint8_t j = kStepperJoint[i];
     drives.positive_rad_s[j] = drives.negative_rad_s[j] = kMotionLimits.joint[j].speed_rad_s;
   }
   if (g_j1_stop_speed.raw < kMotionLimits.joint[0].speed_rad_s.raw) drives.positive_rad_s[0] = drives.negative_rad_s[0] = g_j1_stop_speed;
+  // (the creep of a closed switch's stop: J^-1's rounding turns J5 a little in many motions)
+  if (resolved_rate && g_j5_no_lift > 0) drives.positive_rad_s[4] = core::kCreepTowardsClosedSwitch_rad_s;
+  if (resolved_rate && g_j5_no_lift < 0) drives.negative_rad_s[4] = core::kCreepTowardsClosedSwitch_rad_s;
   core::stop_towards_switches(drives, inputs::closed_switches() & kSwitchesArmed);
 }
 

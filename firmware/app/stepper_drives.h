@@ -27,9 +27,18 @@ fx::Angle angle_of(uint8_t i, int32_t steps);
 // pose of `trig`, with the speed from which the hand stops within kStopTravel_mm
 void use_largest_j1_stop();
 void update_j1_stop(const kin::JacobianTrig<kin::Fixed>& trig);
-// the steppers' drives (g_arm.drives) at their speed limits, J1's at most its stop speed, and no
-// drive towards a closed switch
-void limit_speeds();
+// J5 against the wrist's gravity at the pose of `trig` (core::wrist_gravity_q14): where it takes
+// more than the torque J5's motor plans with, J5 may not lift the wrist (its drive a creep that
+// way, in limit_speeds, for the stick and the stream); and its reference's acceleration is what
+// the torque left gives the wrist's inertia (g_arm.j5_max_change_per_tick)
+void update_wrist_load(const kin::JacobianTrig<kin::Fixed>& trig);
+// the steppers' drives (g_arm.drives) at their speed limits, J1's at most its stop speed, J5 not
+// lifting what it cannot while the stick or a stream drives (resolved_rate), and no drive
+// towards a closed switch
+void limit_speeds(bool resolved_rate);
+// J5's drive free to lift for a move to a pose (joint space, its own ramps): the stick's lift
+// limit left in g_arm.drives would cap the move's speed to a creep
+void free_wrist_lift();
 
 }  // namespace stepper_drives
 }  // namespace app

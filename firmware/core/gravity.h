@@ -17,6 +17,7 @@
 #include <stdint.h>
 
 #include "config/gravity_config.h"
+#include "config/stop_config.h"
 #include "kinematics/arm_model.h"
 #include "kinematics/fixed_point.h"
 
@@ -62,7 +63,27 @@ constexpr int32_t largest_sum(const Terms& k) {  // |trig| <= 1: a bound on the 
 }
 static_assert(largest_sum(kTerms[0]) < 32767 && largest_sum(kTerms[1]) < 32767 && largest_sum(kTerms[2]) < 32767,
               "a DC drive cannot hold its joint's load with these masses at every pose: the effort would exceed full duty");
+
+// J5's motor plans its lifts with this share of its holding torque through its 1:10 gear
+// (config/stop_config.h's motor data): below its corner speed the pull-out torque is about the
+// holding torque, less the microsteps' ripple and what the figures miss.
+constexpr double kJ5LiftTorqueShare = 0.8;
+constexpr double kJ5PlannedTorque_Nm = config::kStepperHoldingTorque_mNm[1] / 1000.0 * config::stepper_gear(1) * kJ5LiftTorqueShare;
+// the wrist's largest gravity about J5 (kg m of reach times g) over that, Q14
+constexpr int16_t kWristGravity_q14 = (int16_t)(kWrist_kgm * kG_m_s2 / kJ5PlannedTorque_Nm * 16384.0 + 0.5);
+static_assert(kWrist_kgm * kG_m_s2 / kJ5PlannedTorque_Nm < 1.99, "the wrist's gravity within twice J5's planned torque (Q14)");
 }  // namespace gravity_detail
+
+// Gravity about J5's axis as a fraction of the torque its motor plans with (Q14: 16384 is all of
+// it; + turns J5 positive). The wrist's masses (link 5, the payload) lie on y5 = z6, a reach L
+// beyond the joint-5 origin; in the frame turned by q1, z5 = (s234, 0, -c234) and z6 = (c234 c5,
+// -s5, s234 c5), so gravity (0, 0, -m g) turns J5 by z5 . (L z6 x (0, 0, -m g)) = m g L s5 s234:
+// most with the wrist turned a quarter (s5 = +-1) on a horizontal link 4. Checked on the host
+// against the simulator's gravity (test_gravity.cpp).
+template <class Trig>
+int16_t wrist_gravity_q14(const Trig& t) {
+  return (int16_t)(fx::mul_ss(gravity_detail::kWristGravity_q14, (t.s5 * t.s234).raw) >> 15);
+}
 
 struct HoldingEffort {
   int16_t duty_q15[3];  // J2, J3, J4: + means the drive must push the joint positive to hold it

@@ -50,6 +50,27 @@ TEST(Gravity, HoldingEffortIsTheSimulatorsGravityOverTheStallTorque) {
   std::printf("holding effort: worst error %.5f of full duty over 10,000 poses\n", worst);
 }
 
+// J5's gravity (core::wrist_gravity_q14) is the simulator's, as a fraction of the torque J5's
+// motor plans its lifts with
+TEST(Gravity, WristGravityIsTheSimulatorsOverJ5sPlannedTorque) {
+  std::mt19937 rng(5);
+  double worst = 0, largest = 0;
+  for (int n = 0; n < 10000; ++n) {
+    std::array<double, 6> q;
+    for (int j = 0; j < 6; ++j) {
+      std::uniform_real_distribution<double> in(arm::q_min_rad(j), arm::q_max_rad(j));
+      q[j] = in(rng);
+    }
+    const plant::JointLoads loads = plant::joint_loads(q, true, true);
+    const double firmware = core::wrist_gravity_q14(fixed_trig(q)) / 16384.0;
+    const double expected = loads.gravity_nm[4] / core::gravity_detail::kJ5PlannedTorque_Nm;
+    worst = std::max(worst, std::fabs(firmware - expected));
+    largest = std::max(largest, std::fabs(expected));
+    ASSERT_NEAR(firmware, expected, 0.002) << "pose " << n;
+  }
+  std::printf("wrist gravity about J5: worst error %.5f of J5's planned torque, largest %.3f of it\n", worst, largest);
+}
+
 // J1's stop plans with the firmware's inertia about the base axis: never below the simulator's
 // (an under-estimate would ask J1's motor for more than it has), and not far above it.
 TEST(Gravity, BaseInertiaBoundsTheSimulatorsFromAbove) {

@@ -3,7 +3,7 @@
 // joint angles against an ideal resolved-rate arm fed the same stick (sweep_figures.h). Writes
 // one CSV row per test; scripts/motion-sweep runs the poses side by side and prints the tables.
 //   motion_sweep --elf FIRMWARE.elf --poses FIRST:COUNT [--seed N] [--modes XY,XZ,R1,R2] [--tests N]
-//                [--trace "MODE:TEST"] > out.csv
+//                [--trace "MODE:TEST"] [--at Q1,Q2,Q3,Q4,Q5,Q6] > out.csv
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -19,10 +19,11 @@ using namespace wmra::sweep;
 void usage(FILE* f) {
   std::fprintf(f,
                "usage: motion_sweep --elf FIRMWARE.elf --poses FIRST:COUNT [--seed N] [--modes XY,XZ,R1,R2] [--tests N]\n"
-               "                    [--trace \"MODE:TEST\"]\n"
+               "                    [--trace \"MODE:TEST\"] [--at Q1,Q2,Q3,Q4,Q5,Q6]\n"
                "  one CSV row per stick test on stdout; --tests N: the first N tests of each mode only;\n"
                "  --trace \"XY:+x 0.6\": that test alone, its row and then its samples as '#' lines (time, hand\n"
-               "  progress along the command and distance off it in mm, speed over 10 ms in mm/s or deg/s, q in rad)\n");
+               "  progress along the command and distance off it in mm, speed over 10 ms in mm/s or deg/s, q in rad);\n"
+               "  --at: that pose (rad) instead of the seeded ones (with --poses N:1, N names it)\n");
 }
 
 void print_header() {
@@ -66,6 +67,8 @@ void print_trace(const StickTest& test, const std::vector<plant::Joints>& sample
 
 int main(int argc, char** argv) {
   std::string elf, modes = "XY,XZ,R1,R2", trace;
+  bool at_given = false;
+  Joints at{};
   int first = 0, count = 0, tests = 1000;
   uint32_t seed = 1;
   for (int i = 1; i < argc; ++i) {
@@ -82,6 +85,10 @@ int main(int argc, char** argv) {
       seed = (uint32_t)std::strtoul(argv[++i], nullptr, 10);
     } else if (a == "--modes" && has_value) {
       modes = argv[++i];
+    } else if (a == "--at" && has_value &&
+               std::sscanf(argv[i + 1], "%lf,%lf,%lf,%lf,%lf,%lf", &at[0], &at[1], &at[2], &at[3], &at[4], &at[5]) == 6) {
+      at_given = true;
+      ++i;
     } else if (a == "--trace" && has_value) {
       trace = argv[++i];
     } else if (a == "--tests" && has_value) {
@@ -98,7 +105,7 @@ int main(int argc, char** argv) {
   }
   print_header();
   for (int k = first; k < first + count; ++k) {
-    const Joints q = pose(seed, k);
+    const Joints q = at_given ? at : pose(seed, k);
     PoseRun run(elf, seed, k, q);
     if (!run.start()) {
       std::fprintf(stderr, "motion_sweep: pose %d: the arm did not start\n", k);
