@@ -25,6 +25,16 @@ kin::ArmTrig<kin::Fixed> fixed_trig(const std::array<double, 6>& q) {
   return t;
 }
 
+// a pose drawn within the joints' limits
+std::array<double, 6> random_pose(std::mt19937& rng) {
+  std::array<double, 6> q;
+  for (int j = 0; j < 6; ++j) {
+    std::uniform_real_distribution<double> in(arm::q_min_rad(j), arm::q_max_rad(j));
+    q[j] = in(rng);
+  }
+  return q;
+}
+
 // the stall torque of each DC joint's drive at the joint, N m
 double stall_nm(int d) { return config::kDcStallTorque_cNm / 100.0 * config::kDcGear_tenths[d] / 10.0; }
 
@@ -32,11 +42,7 @@ TEST(Gravity, HoldingEffortIsTheSimulatorsGravityOverTheStallTorque) {
   std::mt19937 rng(7);
   double worst = 0;
   for (int n = 0; n < 10000; ++n) {
-    std::array<double, 6> q;
-    for (int j = 0; j < 6; ++j) {
-      std::uniform_real_distribution<double> in(arm::q_min_rad(j), arm::q_max_rad(j));
-      q[j] = in(rng);
-    }
+    const std::array<double, 6> q = random_pose(rng);
     const plant::JointLoads loads = plant::joint_loads(q, true, true);
     const core::HoldingEffort h = core::holding_effort(fixed_trig(q));
     for (int d = 0; d < 3; ++d) {
@@ -56,11 +62,7 @@ TEST(Gravity, WristGravityIsTheSimulatorsOverJ5sPlannedTorque) {
   std::mt19937 rng(5);
   double worst = 0, largest = 0;
   for (int n = 0; n < 10000; ++n) {
-    std::array<double, 6> q;
-    for (int j = 0; j < 6; ++j) {
-      std::uniform_real_distribution<double> in(arm::q_min_rad(j), arm::q_max_rad(j));
-      q[j] = in(rng);
-    }
+    const std::array<double, 6> q = random_pose(rng);
     const plant::JointLoads loads = plant::joint_loads(q, true, true);
     const double firmware = core::wrist_gravity_q14(fixed_trig(q)) / 16384.0;
     const double expected = loads.gravity_nm[4] / core::gravity_detail::kJ5PlannedTorque_Nm;
@@ -77,11 +79,7 @@ TEST(Gravity, BaseInertiaBoundsTheSimulatorsFromAbove) {
   std::mt19937 rng(11);
   double worst_over = 0, worst_ratio = 1e9;
   for (int n = 0; n < 10000; ++n) {
-    std::array<double, 6> q;
-    for (int j = 0; j < 6; ++j) {
-      std::uniform_real_distribution<double> in(arm::q_min_rad(j), arm::q_max_rad(j));
-      q[j] = in(rng);
-    }
+    const std::array<double, 6> q = random_pose(rng);
     const double sim_gm2 = 1000 * plant::joint_loads(q, true, true).inertia_kgm2[0];
     const core::BaseLoad load = core::base_load(fixed_trig(q));
     const double fw_gm2 = load.inertia_gm2;
