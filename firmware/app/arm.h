@@ -35,8 +35,8 @@ struct Arm {
   fx::Real j1_max_change_per_tick;
   // and slowing down: the acceleration limit the pose's inertia allows (kJ1AccelMultiples)
   fx::Real j1_max_brake_per_tick;
-  // J5's towards lifting the wrist at this pose (speeding up a lift, slowing a lowering): the
-  // torque its motor has left beyond the wrist's gravity (stepper_drives::update_wrist_load)
+  // J5's speeding up a lift of the wrist at this pose: the torque its motor has left beyond the
+  // wrist's gravity (stepper_drives::update_wrist_load)
   fx::Real j5_max_change_per_tick;
   int8_t j5_lift_way;  // the way J5 turns to lift the wrist: +1, -1, or 0 (no gravity about it)
   Settings* settings;       // in RAM, saved to EEPROM on a change

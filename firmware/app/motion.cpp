@@ -154,10 +154,13 @@ void pass(const control::JoystickOutput& stick, const Requests& rq, uint8_t tick
   const int32_t j1_now = g_arm.q.qd_rad_s[0].raw, j1_wanted = core::scaled(rates.scale, inv.qd_rad_s[0]).raw;
   const bool j1_speeding_up = j1_now >= 0 ? (j1_wanted > j1_now || j1_wanted < 0) : (j1_wanted < j1_now || j1_wanted > 0);
   const fx::Real j1_change = j1_speeding_up ? g_arm.j1_max_change_per_tick : g_arm.j1_max_brake_per_tick;
-  // J5's change towards lifting the wrist at most what its motor's torque left beyond gravity gives
-  const int32_t j5_change_raw = core::scaled(rates.scale, inv.qd_rad_s[4]).raw - g_arm.q.qd_rad_s[4].raw;
-  const bool j5_towards_lift = g_arm.j5_lift_way > 0 ? j5_change_raw > 0 : g_arm.j5_lift_way < 0 && j5_change_raw < 0;
-  const fx::Real j5_change = j5_towards_lift ? g_arm.j5_max_change_per_tick : kMaxSpeedChangePerTick[4];
+  // J5 speeding up a lift of the wrist at most at what its motor's torque left beyond gravity
+  // gives; slowing down a lowering at its limit (the soft limits' braking counts on it; a worm
+  // that does not back-drive takes the load, and one that does needs a stronger motor anyway)
+  const int32_t j5_wanted = core::scaled(rates.scale, inv.qd_rad_s[4]).raw, j5_now = g_arm.q.qd_rad_s[4].raw;
+  const int32_t j5_lift_wanted = g_arm.j5_lift_way < 0 ? -j5_wanted : j5_wanted, j5_lift_now = g_arm.j5_lift_way < 0 ? -j5_now : j5_now;
+  const bool j5_speeding_lift = g_arm.j5_lift_way != 0 && j5_lift_wanted > 0 && j5_lift_wanted > j5_lift_now;
+  const fx::Real j5_change = j5_speeding_lift ? g_arm.j5_max_change_per_tick : kMaxSpeedChangePerTick[4];
   fx::Real max_change[6];
   if (ticks != plan::kMotionPeriod_ticks) {
     for (uint8_t j = 0; j < 6; ++j) max_change[j] = fx::Real{kMaxSpeedChangePerTick[j].raw * ticks};

@@ -105,7 +105,7 @@ void update_j1_stop(const kin::JacobianTrig<kin::Fixed>& trig) {
 
 // The torque left beyond gravity's, over the wrist's largest inertia (with J5's rotor through
 // its gear), is J5's acceleration: a change per tick (Q23 rad/s) per Q14 of the planned torque,
-// x 2^10. At least kJ5FloorAccel_crad_s2: a wrist that cannot lift still slows its lowering.
+// x 2^10. At least kJ5FloorAccel_crad_s2 (where it cannot lift, its drive stops the lift).
 constexpr double kJ5Inertia_kgm2 = kStepperLoadInertia_gm2[1] * 1e-3 + kStepperRotorInertia_gcm2[1] * 1e-7 * stepper_gear(1) * stepper_gear(1);
 constexpr uint16_t kJ5ChangePerQ14_x1024 =
     (uint16_t)(core::gravity_detail::kJ5PlannedTorque_Nm / kJ5Inertia_kgm2 / kLoopHz * 8388608.0 / 16384.0 * 1024.0);

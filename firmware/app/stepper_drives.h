@@ -29,8 +29,8 @@ void use_largest_j1_stop();
 void update_j1_stop(const kin::JacobianTrig<kin::Fixed>& trig);
 // J5 against the wrist's gravity at the pose of `trig` (core::wrist_gravity_q14): where it takes
 // more than the torque J5's motor plans with, J5 may not lift the wrist (its drive a creep that
-// way, in limit_speeds, for the stick and the stream); and its reference's acceleration is what
-// the torque left gives the wrist's inertia (g_arm.j5_max_change_per_tick)
+// way, in limit_speeds, for the stick and the stream); and its reference speeds up a lift at
+// most at what the torque left gives the wrist's inertia (g_arm.j5_max_change_per_tick)
 void update_wrist_load(const kin::JacobianTrig<kin::Fixed>& trig);
 // the steppers' drives (g_arm.drives) at their speed limits, J1's at most its stop speed, J5 not
 // lifting what it cannot while the stick or a stream drives (resolved_rate), and no drive
