@@ -97,4 +97,23 @@ TEST(MotionSweep, J5NeverLiftsMoreThanItsMotorHas) {
   }
 }
 
+// And lowering it, J5 brakes at its full limit: at the sweep's pose 15 (gravity about J5 near its
+// motor's planned torque) R1's stick +Y lowers the wrist towards J5's soft stop at 87 deg; with
+// its braking held to the torque left, J5 ran past the soft stop onto its switch, where lifting
+// off it was refused, and the arm could not go back to the pose.
+TEST(MotionSweep, J5LoweringAHeavyWristStopsAtItsSoftLimit) {
+  PoseRun run(test::kFirmware, 1, 15, pose(1, 15));
+  ASSERT_TRUE(run.start());
+  const TestResult lowering = run.run(StickTest{config::Mode::r1, 0, 0.6, 0, 0.6, "+y 0.6"});
+  ASSERT_TRUE(lowering.reached);
+  double q5_max = 0;
+  for (const plant::Joints& q : run.samples()) q5_max = std::max(q5_max, q[4]);
+  const TestResult after = run.run(StickTest{config::Mode::r1, 0, -0.6, 0, -0.6, "-y 0.6"});
+  std::printf("pose 15, R1 +y 0.6: J5 at most %.2f deg (soft stop %d deg); back at the pose for the next test: %d\n",
+              q5_max * 180 / arm::kPi, arm::q_max_deg[4] - config::kSoftLimitMargin_deg, after.reached);
+  EXPECT_LT(q5_max * 180 / arm::kPi, arm::q_max_deg[4] - config::kSoftLimitMargin_deg + 0.5);
+  EXPECT_TRUE(after.reached);
+  EXPECT_EQ(lowering.figures.lost_steps + after.figures.lost_steps, 0);
+}
+
 }  // namespace
