@@ -93,6 +93,7 @@ def main():
     print(f"| elbow flipped (any test) | {sum(t[m]['flipped'] for m in t)} of {len(r)} | none |")
     print(f"| stuck (any test) | {sum(t[m]['stuck'] for m in t)} of {len(r)} | none |")
     print(f"| steps lost | {sum(t[m]['lost'] for m in t):.0f} | 0 |")
+    print(f"| steps lost on the moves back to the poses | {sum(x.get('move_lost_steps', 0) for x in r):.0f} | 0 |")
 
 
 if __name__ == "__main__":

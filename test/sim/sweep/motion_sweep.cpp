@@ -28,15 +28,15 @@ void usage(FILE* f) {
 
 void print_header() {
   std::printf("pose,mode,test,reached,ineligible,steady_ratio,off_axis_mm,orientation_deg,origin_mm,peak_100ms,peak_20ms,"
-              "release,ideal_release,rebound_mm,settle_s,elbow_crossings,elbow_flipped,stuck,lost_steps,spec_pass\n");
+              "release,ideal_release,rebound_mm,settle_s,elbow_crossings,elbow_flipped,stuck,lost_steps,spec_pass,move_lost_steps\n");
 }
 
 void print_row(const TestResult& r) {
   const Figures& f = r.figures;
-  std::printf("%d,%s,%s,%d,%u,%.4f,%.3f,%.3f,%.3f,%.4f,%.4f,%.3f,%.3f,%.3f,%.2f,%d,%d,%d,%lld,%d\n", r.pose, mode_name(r.test.mode),
+  std::printf("%d,%s,%s,%d,%u,%.4f,%.3f,%.3f,%.3f,%.4f,%.4f,%.3f,%.3f,%.3f,%.2f,%d,%d,%d,%lld,%d,%lld\n", r.pose, mode_name(r.test.mode),
               r.test.name.c_str(), r.reached, f.ineligible, f.steady_ratio, f.off_axis_mm, f.orientation_deg, f.origin_mm, f.peak_100ms,
               f.peak_20ms, f.release, f.ideal_release, f.rebound_mm, f.settle_s, f.elbow_crossings, f.elbow_flipped, f.stuck,
-              f.lost_steps, f.spec_pass);
+              f.lost_steps, f.spec_pass, r.move_lost_steps);
   std::fflush(stdout);
 }
 

@@ -21,6 +21,7 @@ struct TestResult {
   int pose = 0;
   StickTest test;
   bool reached = false;  // the arm came to rest at the pose before the test
+  long long move_lost_steps = 0;  // microsteps lost on the way back to the pose before it
   Figures figures;
 };
 
@@ -52,7 +53,9 @@ class PoseRun {
     TestResult r;
     r.pose = pose_index_;
     r.test = test;
+    const long long lost_before_move = lost_steps();
     r.reached = back_to_pose(test.mode);
+    r.move_lost_steps = lost_steps() - lost_before_move;
     last_x_ = test.x2;
     last_y_ = test.y2;
     if (!r.reached) return r;
