@@ -49,9 +49,11 @@ constexpr control::StepRateConfig kRampConfig[3] = {
     {steps_per_s(0, kStepperAccel_crad_s2[0]), kStepMinInterval_ticks, kStepMaxInterval_ticks},
     {steps_per_s(1, kStepperAccel_crad_s2[1]), kStepMinInterval_ticks, kStepMaxInterval_ticks},
     {steps_per_s(2, kStepperAccel_crad_s2[2]), kStepMinInterval_ticks, kStepMaxInterval_ticks}};
-constexpr core::StepperTracking kTracking[3] = {{kStepperPositionGain_per_s, kRampConfig[0].accel_steps_s2},
-                                                {kStepperPositionGain_per_s, kRampConfig[1].accel_steps_s2},
-                                                {kStepperPositionGain_per_s, kRampConfig[2].accel_steps_s2}};
+// the ramps' slowest speed (steps/s): a step per kStepMaxInterval_ticks
+constexpr int32_t kSlowestStep_steps_s = (int32_t)(steppers::kTickHz / kStepMaxInterval_ticks);
+constexpr core::StepperTracking kTracking[3] = {{kStepperPositionGain_per_s, kRampConfig[0].accel_steps_s2, kSlowestStep_steps_s},
+                                                {kStepperPositionGain_per_s, kRampConfig[1].accel_steps_s2, kSlowestStep_steps_s},
+                                                {kStepperPositionGain_per_s, kRampConfig[2].accel_steps_s2, kSlowestStep_steps_s}};
 constexpr control::StepRateConstants ramp_constants(uint8_t i) {
   return control::step_rate_constants(steppers::kTickHz, steppers::kServiceHz, kRampConfig[i]);
 }
@@ -71,10 +73,10 @@ constexpr control::StepRateConstants kJ1RampConstants[4] = {
 static_assert(kJ1RampConstants[1].status == control::RateStatus::ok && kJ1RampConstants[2].status == control::RateStatus::ok &&
                   kJ1RampConstants[3].status == control::RateStatus::ok,
               "kJ1AccelMultiples: J1's fastest acceleration does not fit its ramp (lib/control/step_rate.h)");
-constexpr core::StepperTracking kJ1Tracking[4] = {{kStepperPositionGain_per_s, j1_ramp_config(0).accel_steps_s2},
-                                                  {kStepperPositionGain_per_s, j1_ramp_config(1).accel_steps_s2},
-                                                  {kStepperPositionGain_per_s, j1_ramp_config(2).accel_steps_s2},
-                                                  {kStepperPositionGain_per_s, j1_ramp_config(3).accel_steps_s2}};
+constexpr core::StepperTracking kJ1Tracking[4] = {{kStepperPositionGain_per_s, j1_ramp_config(0).accel_steps_s2, kSlowestStep_steps_s},
+                                                  {kStepperPositionGain_per_s, j1_ramp_config(1).accel_steps_s2, kSlowestStep_steps_s},
+                                                  {kStepperPositionGain_per_s, j1_ramp_config(2).accel_steps_s2, kSlowestStep_steps_s},
+                                                  {kStepperPositionGain_per_s, j1_ramp_config(3).accel_steps_s2, kSlowestStep_steps_s}};
 constexpr control::StopConstants stop_constants(uint8_t i) {
   return control::stop_constants(steppers::kTickHz, steppers::kServiceHz, kStopDecel_steps_s2[i], (uint32_t)kStartStop_steps_s[i]);
 }

@@ -51,7 +51,7 @@ Settling settle(int32_t start_steps, double seconds, Law law) {
 }
 
 TEST(StepperTracking, CatchesUpWithoutSwingingPastTheReference) {
-  const core::StepperTracking tracking{20, kAccel_steps_s2};
+  const core::StepperTracking tracking{20, kAccel_steps_s2, 20};
   for (int32_t start : {-400, -60, -3, 2, 45, 300}) {
     const Settling run = settle(start, 4.0, [&](int32_t error) { return core::tracking_speed_steps_s(tracking, 0, error); });
     EXPECT_LE(run.max_overshoot_steps, 1) << "from " << start;
@@ -65,14 +65,17 @@ TEST(StepperTracking, APlainGainSwingsPastIt) {
 }
 
 TEST(StepperTracking, ReferenceSpeedPassesThrough) {
-  const core::StepperTracking tracking{20, kAccel_steps_s2};
+  const core::StepperTracking tracking{20, kAccel_steps_s2, 20};
   EXPECT_EQ(core::tracking_speed_steps_s(tracking, -350, 0), -350);
   EXPECT_EQ(core::tracking_speed_steps_s(tracking, 100, 2), 140);    // linear: 2 <= 1222 / 400
   EXPECT_EQ(core::tracking_speed_steps_s(tracking, 0, -100), -349);  // sqrt(1222 x 100)
   EXPECT_GT(core::tracking_speed_steps_s(tracking, 0, 1 << 30), 0);  // no overflow
-  // a step's error is left alone (kTrackingDeadband_steps): the reference's speed alone
+  // a standing or creeping reference has a step's error left alone (kTrackingDeadband_steps):
+  // its speed alone; a moving one has it corrected
   EXPECT_EQ(core::tracking_speed_steps_s(tracking, 0, 1), 0);
   EXPECT_EQ(core::tracking_speed_steps_s(tracking, -3, -1), -3);
+  EXPECT_EQ(core::tracking_speed_steps_s(tracking, 100, 1), 120);
+  EXPECT_EQ(core::tracking_speed_steps_s(tracking, -20, -1), -40);
 }
 
 }  // namespace
