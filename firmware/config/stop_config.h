@@ -117,8 +117,8 @@ constexpr uint16_t kJ1RotorAtJoint_gm2 = (uint16_t)(kStepperRotorInertia_gcm2[0]
 // (kJointAccelLimit_crad_s2[0]) are set for the largest inertia; where the arm's inertia about
 // the base axis (with J1's rotor) is a multiple m smaller, both go m times as fast, and the
 // share of the motor's torque they ask stays the stretched arm's. The hand near the base axis
-// needs J1 fast: at 0.5 rad/s^2 J1 took up to 1.6 s to stop after the stick's release, and the
-// hand ran on up to 111 mm (docs/motion.md).
+// needs J1 fast: at 0.5 rad/s^2 J1 needs up to 1.6 s to stop after the stick's release, and the
+// hand runs on up to 111 mm.
 constexpr uint8_t kJ1AccelMultiples[4] = {1, 2, 4, 6};
 constexpr uint16_t kJ1WorstInertia_gm2 = (uint16_t)(kStepperLoadInertia_gm2[0] + kJ1RotorAtJoint_gm2);
 

@@ -31,9 +31,9 @@ struct StepperTracking {
 // A reference slower than the ramp's slowest speed (standing, or creeping: the drift
 // correction's ~1 mrad/s at rest after a motion) has a step's error left alone: the ramp starts
 // at its slowest speed (a step per 50 ms, the linear term's for one step) and stops within a step
-// of it, so correcting one step made the joint step back and forth about it (J6 did, a step
-// every 50 ms, for as long as it crept). A moving reference keeps the correction of every step:
-// without it the release of the stick changed the step rates 24 ms later (48 ms against 24).
+// of it, so correcting one step steps the joint back and forth about such a reference, every
+// 50 ms for as long as it creeps. A moving reference keeps the correction of every step: without
+// it the step rates follow the stick's release 24 ms later.
 constexpr uint32_t kTrackingDeadband_steps = 1;
 
 inline int32_t tracking_speed_steps_s(const StepperTracking& c, int32_t reference_speed_steps_s, int32_t error_steps) {

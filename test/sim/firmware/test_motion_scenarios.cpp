@@ -294,7 +294,7 @@ TEST(FirmwareMotion, R2AtTheReadyPoseIsSlowedWithinTheJointLimits) {
 // Nothing moves that nobody asked to move: once the hand has come to rest after the stick's
 // release, no stepper takes a step and no joint turns, for seconds, after motions in each
 // mode. (The drift correction's references creep at ~1 mrad/s at rest, about a count of a DC
-// pot; the steppers followed them a step forth and back every 50 ms.)
+// pot; a stepper that corrects every step follows them a step forth and back every 50 ms.)
 TEST(FirmwareMotion, NothingMovesAtRestAfterTheStick) {
   test::Rig rig(kFirmware);
   const double t_running = rig.start(12.0);

@@ -81,7 +81,7 @@ TEST(MotionSweep, ASeededSubset) {
 // gravity about J5 (the 1.2 kg payload, link 4 level, the wrist turned 72 deg) takes more than
 // its planned torque, R1's stick Y turns J5 each way, full and slow, and reversed: J5 does not
 // lift the wrist (the motion stops, the drive's load named) and lowers it, and no step is lost.
-// (Before, J5 lost 128 to 1,024 microsteps in each lifting test here, unnoticed.)
+// (Asked to lift here, J5 loses 128 to 1,280 microsteps a test, unnoticed.)
 TEST(MotionSweep, J5NeverLiftsMoreThanItsMotorHas) {
   const Joints q = {0.3, 0.5, -1.0, -1.0, 1.25, 0.0};
   PoseRun run(test::kFirmware, 1, 0, q);
@@ -98,9 +98,9 @@ TEST(MotionSweep, J5NeverLiftsMoreThanItsMotorHas) {
 }
 
 // And lowering it, J5 brakes at its full limit: at the sweep's pose 15 (gravity about J5 near its
-// motor's planned torque) R1's stick +Y lowers the wrist towards J5's soft stop at 87 deg; with
-// its braking held to the torque left, J5 ran past the soft stop onto its switch, where lifting
-// off it was refused, and the arm could not go back to the pose.
+// motor's planned torque) R1's stick +Y lowers the wrist towards J5's soft stop at 87 deg. Its
+// braking is not held to the torque left: held, J5 runs past the soft stop onto its switch,
+// where lifting off it is refused, and the arm cannot go back to the pose.
 TEST(MotionSweep, J5LoweringAHeavyWristStopsAtItsSoftLimit) {
   PoseRun run(test::kFirmware, 1, 15, pose(1, 15));
   ASSERT_TRUE(run.start());
