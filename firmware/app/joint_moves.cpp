@@ -84,7 +84,7 @@ void begin(const int32_t* angles) {
 void tick(bool cap_tick, bool ramp_tick) {
   core::JointReferences& r = g_arm.q;
   if (!g_move.prepared()) {
-    stepper_drives::free_wrist_lift();
+    stepper_drives::limit_speeds(false);  // J5 free to lift: the stick's lift limit would cap the move to a creep
     if (g_move.prepare(kMoveLimits)) g_move.set_speed_cap(kMoveLimits, g_arm.drives, g_arm.speed_scale, dc_drives::tracking_factor());
   } else if (!g_line_done) {
     if (cap_tick) g_move.set_speed_cap(kMoveLimits, g_arm.drives, g_arm.speed_scale, dc_drives::tracking_factor(), hand_per_lead());

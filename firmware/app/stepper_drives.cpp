@@ -125,8 +125,6 @@ void update_wrist_load(const kin::JacobianTrig<kin::Fixed>& trig) {
                                                     : change < (uint32_t)kJ5FloorChange.raw ? kJ5FloorChange.raw : change)};
 }
 
-void free_wrist_lift() { g_arm.drives.positive_rad_s[4] = g_arm.drives.negative_rad_s[4] = kMotionLimits.joint[4].speed_rad_s; }
-
 // (the DC joints' speeds are the governor's, set just before or at its last run)
 void limit_speeds(bool resolved_rate) {
   core::DriveSpeeds& drives = g_arm.drives;

@@ -36,9 +36,6 @@ void update_wrist_load(const kin::JacobianTrig<kin::Fixed>& trig);
 // lifting what it cannot while the stick or a stream drives (resolved_rate), and no drive
 // towards a closed switch
 void limit_speeds(bool resolved_rate);
-// J5's drive free to lift for a move to a pose (joint space, its own ramps): the stick's lift
-// limit left in g_arm.drives would cap the move's speed to a creep
-void free_wrist_lift();
 
 }  // namespace stepper_drives
 }  // namespace app
