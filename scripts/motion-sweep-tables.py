@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The motion sweep's tables from its rows (test/sim/sweep/motion_sweep, one CSV per pose):
 per mode the figures over the eligible tests (the ideal arm clear of the slow bands, the
-soft-limit zones and the speed limits), and S15's pass rates (docs/design.md). Markdown on stdout.
+soft-limit zones, the speed limits and the DC motors' loaded speeds), and S15's pass rates (docs/design.md). Markdown on stdout.
    motion-sweep-tables.py OUT_DIR SEED COMMIT"""
 import csv
 import glob
@@ -49,8 +49,9 @@ def main():
     print(f"Command: `scripts/motion-sweep --poses {len(poses)} --seed {seed} --docs` (about a minute of one core per pose).\n")
     print("Each test: the stick held 2.5 s (a reversal half-way in two), released, watched 1.5 s; judged on the")
     print("plant's true joint angles through an Eigen FK, against an ideal resolved-rate arm fed the same stick.")
-    print("Eligible: the ideal arm stays clear of the slow bands, the soft-limit zones and the joints' speed")
-    print("limits while the stick is held. Figures: median (worst) over the eligible tests; speeds as ratios")
+    print("Eligible: the ideal arm stays clear of the slow bands, the soft-limit zones, the joints' speed")
+    print("limits and the speeds the DC motors reach at full supply against gravity (the plant's torque model)")
+    print("while the stick is held. Figures: median (worst) over the eligible tests; speeds as ratios")
     print("to the commanded steady speed; release: travel after letting go less the ideal arm's.\n")
     print("| mode | eligible | S pass | steady speed | off-axis mm | orientation deg | origin mm | peak 0.1 s | > 1.15 | peak 0.02 s | release - ideal | rebound mm | settle s | elbow crossed / flipped | stuck | lost steps |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")

@@ -146,6 +146,10 @@ struct Rig {
   }
   void run_to(double t_s) {
     sim.run_until(t_s);
+    feed_telemetry();
+  }
+  // the UART's bytes so far to telemetry (run_to does it at its end; a callback within a run, here)
+  void feed_telemetry() {
     const std::vector<uint8_t>& out = sim.uart_output();
     for (; fed < out.size(); ++fed) telemetry.feed(out[fed]);
   }

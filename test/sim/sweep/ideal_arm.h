@@ -3,8 +3,8 @@
 // square to disc, response curve, rate limit) from the config's numbers; the hand's twist by
 // mode (core/stick_twist.h's table, as docs/arm-guide.md gives it); and a resolved-rate arm that follows that twist exactly, through the Eigen
 // reference's geometric Jacobian (modified DH matrices), integrated every millisecond. The
-// sweep asks it which tests are eligible (clear of the slow bands, the soft-limit zones and
-// the joints' speed limits) and how far the hand should go.
+// sweep asks it which tests are eligible (clear of the slow bands, the soft-limit zones, the
+// joints' speed limits and the DC motors' loaded speeds) and how far the hand should go.
 #pragma once
 
 #include <Eigen/Dense>
@@ -17,6 +17,8 @@
 #include "config/motion_config.h"
 #include "eigen_reference.h"
 #include "kinematics/arm_model.h"
+#include "plant/arm_plant_config.h"
+#include "plant/arm_statics.h"
 
 namespace wmra {
 namespace sweep {
@@ -94,7 +96,10 @@ enum Ineligible : unsigned {
   // a factor inside its slow band taken towards zero within the first kApproachWindow_s of the
   // hold: the motion the firmware rightly slows to a stop (SPEC 5), so the arm staying put is
   // not "stuck"
-  kTowardsSingular = 8
+  kTowardsSingular = 8,
+  // a DC joint asked to turn faster than its motor turns it at full supply against the load's
+  // gravity (the plant's torque model: what no controller can do)
+  kDriveTorque = 16
 };
 constexpr double kApproachWindow_s = 1.0;
 
@@ -118,6 +123,17 @@ inline bool approaches_singular(const Joints& q, const Eigen::Matrix<double, 6, 
   return false;
 }
 
+// The fastest a DC joint turns its way (sign of qd_rad_s) at full supply in the plant, at steady
+// speed: the assembly's torque-speed line against its Coulomb and viscous friction and the
+// gravity that opposes the motion (a self-locking worm takes a load that helps it).
+inline double dc_loaded_speed_rad_s(int joint, double qd_rad_s, double gravity_nm) {
+  const double gear = plant::kGearRatio[joint];
+  const double opposing_nm = std::max(0.0, -std::copysign(1.0, qd_rad_s) * gravity_nm / gear);
+  const double assembly_rad_s = (plant::kDcStallTorqueNm - plant::kDcCoulombFrictionNm - opposing_nm) /
+                                (plant::kDcStallTorqueNm / plant::kDcNoLoadSpeedRadS + plant::kDcViscousNmPerRadS);
+  return std::max(0.0, assembly_rad_s / gear);
+}
+
 inline unsigned ineligible_at(const Joints& q, const Eigen::Matrix<double, 6, 1>& qd) {
   unsigned why = 0;
   const auto ratio = [](Ratio r) { return (double)r.num / r.den; };
@@ -129,6 +145,9 @@ inline unsigned ineligible_at(const Joints& q, const Eigen::Matrix<double, 6, 1>
     if (q[j] < arm::q_min_rad(j) + zone || q[j] > arm::q_max_rad(j) - zone) why |= kSoftZone;
     if (std::fabs(qd[j]) > config::kJointSpeedLimit_crad_s[j] / 100.0) why |= kSpeedLimit;
   }
+  const plant::JointLoads loads = plant::joint_loads(q, true, plant::PlantConfig{}.payload);
+  for (int j = 1; j <= 3; ++j)
+    if (std::fabs(qd[j]) > dc_loaded_speed_rad_s(j, qd[j], loads.gravity_nm[j])) why |= kDriveTorque;
   return why;
 }
 

@@ -22,7 +22,7 @@ void usage(FILE* f) {
                "                    [--trace \"MODE:TEST\"] [--at Q1,Q2,Q3,Q4,Q5,Q6]\n"
                "  one CSV row per stick test on stdout; --tests N: the first N tests of each mode only;\n"
                "  --trace \"XY:+x 0.6\": that test alone, its row and then its samples as '#' lines (time, hand\n"
-               "  progress along the command and distance off it in mm, speed over 10 ms in mm/s or deg/s, q in rad);\n"
+               "  progress along the command and distance off it in mm, speed over 10 ms in mm/s or deg/s, q in rad, the firmware's slowed_by);\n"
                "  --at: that pose (rad) instead of the seeded ones (with --poses N:1, N names it)\n");
 }
 
@@ -42,7 +42,7 @@ void print_row(const TestResult& r) {
 
 // a test's samples: the hand's progress along the command and off its line (linear modes) or
 // the angle turned (rotation), and the joints
-void print_trace(const StickTest& test, const std::vector<plant::Joints>& samples) {
+void print_trace(const StickTest& test, const std::vector<plant::Joints>& samples, const std::vector<uint8_t>& slowed_by) {
   if (samples.empty()) return;
   const bool linear = test.mode == config::Mode::xy || test.mode == config::Mode::xz;
   Eigen::Vector3d u;
@@ -58,7 +58,7 @@ void print_trace(const StickTest& test, const std::vector<plant::Joints>& sample
     std::printf("# %.2f %9.3f %7.3f %8.2f", i * kSample_s, linear ? d.dot(u) * 1000 : turned, linear ? (d - d.dot(u) * u).norm() * 1000 : d.norm() * 1000,
                 step / kSample_s);
     for (int j = 0; j < 6; ++j) std::printf(" %.5f", samples[i][j]);
-    std::printf("\n");
+    std::printf(" %u\n", (unsigned)slowed_by[i]);
     previous = p;
   }
 }
@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
       for (int t = 0; t < (int)list.size() && t < tests; ++t) {
         if (!trace.empty() && trace != std::string(mode_name(mode)) + ":" + list[t].name) continue;
         print_row(run.run(list[t]));
-        if (!trace.empty()) print_trace(list[t], run.samples());
+        if (!trace.empty()) print_trace(list[t], run.samples(), run.slowed_by());
       }
     }
   }

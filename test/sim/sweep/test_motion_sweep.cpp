@@ -5,6 +5,7 @@
 
 #include <cstdio>
 
+#include "plant/motors.h"
 #include "sweep_runner.h"
 
 namespace {
@@ -50,6 +51,22 @@ TEST(MotionSweep, TheIdealArmFollowsTheTwist) {
   for (int k = 0; k < 500; ++k) r1.step(config::Mode::r1, 0, 1, 1e-3);
   EXPECT_LT((pose_of(r1.q()).p - p0).norm(), 1e-4);
   EXPECT_NEAR(angle_between(pose_of(q0).r, pose_of(r1.q()).r), 0.8 * (0.5 - 0.15), 2e-3);
+}
+
+// The ideal's loaded speed of a DC joint (its eligibility's torque bound) is the plant's: a drive
+// at full supply against a lifting load, a lowering one (the worm takes it) and none settles at
+// that speed in the plant's own model.
+TEST(MotionSweep, TheIdealsLoadedSpeedIsThePlantsAtFullSupply) {
+  for (int joint : {1, 2, 3}) {
+    for (double gravity_nm : {-18.0, 0.0, 12.0}) {
+      plant::DcJoint drive(plant::kGearRatio[joint], -1e6, 1e6, true);  // no stop within reach
+      drive.set_angle(0);
+      drive.set_voltage(plant::kBatteryV);
+      for (int k = 0; k < 3000; ++k) drive.step(1e-3, 0.5, gravity_nm);
+      EXPECT_NEAR(drive.qd(), dc_loaded_speed_rad_s(joint, 1, gravity_nm), 1e-3 * drive.qd())
+          << "J" << joint + 1 << " against " << gravity_nm << " N m";
+    }
+  }
 }
 
 // Pose 0's first four tests in XY and R1 (the stick along +-x and +-y at 0.3) on the firmware:
