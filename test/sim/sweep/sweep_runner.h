@@ -41,13 +41,19 @@ class PoseRun {
       : rig_(config(elf, noise_seed)), pose_index_(pose_index), pose_(pose) {
     rig_.sim.set_eeprom(test::settings_block(settings_with_pose(pose)));
     rig_.sim.every(kSample_s, [this](const sim::ArmSimulator& s) {
-      if (recording_) samples_.push_back(s.q());
+      if (!recording_) return;
+      samples_.push_back(s.q());
+      rig_.feed_telemetry();
+      const protocol::StateMsg* state = rig_.telemetry.last_state();
+      slowed_by_.push_back(state ? state->slowed_by : 0);
     });
   }
 
   bool start() { return rig_.start(15.0) >= 0; }
   // the last test's samples of the plant's true joint angles, every kSample_s from its start
   const std::vector<plant::Joints>& samples() const { return samples_; }
+  // and the firmware's slowed_by (core::kSlow*) of its last state frame at each sample
+  const std::vector<uint8_t>& slowed_by() const { return slowed_by_; }
 
   TestResult run(const StickTest& test) {
     TestResult r;
@@ -61,6 +67,7 @@ class PoseRun {
     if (!r.reached) return r;
     const long long lost_before = lost_steps();
     samples_.clear();
+    slowed_by_.clear();
     recording_ = true;
     const double t0 = rig_.sim.time_s();
     rig_.sim.set_joystick(test.x, test.y);
@@ -150,6 +157,7 @@ class PoseRun {
   config::Mode last_mode_ = config::Mode::xy;  // and its mode
   bool recording_ = false;
   std::vector<plant::Joints> samples_;
+  std::vector<uint8_t> slowed_by_;
 };
 
 }  // namespace sweep
