@@ -1,7 +1,12 @@
 #include "app/link.h"
 
+#include <avr/pgmspace.h>
+
+#include "build_identity.h"
 #include "config/control_config.h"
 #include "config/motion_config.h"
+#include "config/version.h"
+#include "kinematics/arm_model.h"
 #include "core/faults.h"
 #include "core/joint_map.h"
 #include "core/stream_limit.h"
@@ -35,10 +40,34 @@ bool g_stream_ended;
 uint8_t g_arrived;  // uart::arrived() at the last poll
 uint8_t g_quiet_ms;  // whole ticks since the line last brought a byte (saturating)
 uint16_t g_loop_cycles_max;
-bool g_send_calibration;  // a calibration frame follows the command's reply (on a later tick if the buffer is full)
+// frames that follow a command's reply (on a later tick if the transmit buffer is full)
+constexpr uint8_t kSendCalibration = 0x01, kSendInfo = 0x02;
+uint8_t g_send_after_reply;
 
 constexpr uint16_t kMaxHand_mm_s = (uint16_t)(config::kMaxHandSpeed_m_s.num * 1000 / config::kMaxHandSpeed_m_s.den);
 constexpr uint16_t kMaxWrist_mrad_s = (uint16_t)(config::kMaxWristSpeed_rad_s.num * 1000 / config::kMaxWristSpeed_rad_s.den);
+
+// What this firmware is and the numbers a technician checks against the arm (the info frame),
+// all constants, in flash
+constexpr protocol::Identity kIdentity{{config::kProductVersion.major, config::kProductVersion.minor, config::kProductVersion.patch},
+                                       WMRA_BUILD_COMMIT_BYTES,
+                                       WMRA_BUILD_FLAGS,
+                                       WMRA_CONFIG_HASH};
+constexpr int16_t soft_limit_mrad(int16_t limit_deg, int16_t inwards_deg) {
+  return (int16_t)((limit_deg + inwards_deg) * 3141.592653589793 / 180 + (limit_deg + inwards_deg < 0 ? -0.5 : 0.5));
+}
+constexpr int16_t soft_min_mrad(uint8_t j) { return soft_limit_mrad(arm::q_min_deg[j], config::kSoftLimitMargin_deg); }
+constexpr int16_t soft_max_mrad(uint8_t j) { return soft_limit_mrad(arm::q_max_deg[j], (int16_t)-config::kSoftLimitMargin_deg); }
+constexpr uint16_t speed_mrad_s(uint8_t j) { return (uint16_t)(config::kJointSpeedLimit_crad_s[j] * 10); }
+const protocol::InfoMsg kInfoInFlash PROGMEM = {
+    kIdentity,
+    kMaxHand_mm_s,
+    kMaxWrist_mrad_s,
+    {speed_mrad_s(0), speed_mrad_s(1), speed_mrad_s(2), speed_mrad_s(3), speed_mrad_s(4), speed_mrad_s(5)},
+    {soft_min_mrad(0), soft_min_mrad(1), soft_min_mrad(2), soft_min_mrad(3), soft_min_mrad(4), soft_min_mrad(5)},
+    {soft_max_mrad(0), soft_max_mrad(1), soft_max_mrad(2), soft_max_mrad(3), soft_max_mrad(4), soft_max_mrad(5)},
+    config::kLoopHz};
+static_assert(sizeof(protocol::InfoMsg) == protocol::payload_bytes<protocol::InfoMsg>(), "no padding: the struct is the payload");
 
 int16_t to_i16(int32_t v) { return (int16_t)(v > 32767 ? 32767 : v < -32767 ? -32767 : v); }
 
@@ -175,13 +204,16 @@ ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
       protocol::PotCalibrationCmd c{};
       protocol::decode(f, c);
       const CalibrationChange change = calibrate_pot(c.joint, c.at_min_counts_x16, c.at_max_counts_x16);
-      if (change == CalibrationChange::ok) g_send_calibration = true;
+      if (change == CalibrationChange::ok) g_send_after_reply |= kSendCalibration;
       return change == CalibrationChange::ok        ? ReplyStatus::ok
              : change == CalibrationChange::refused ? ReplyStatus::refused
                                                     : ReplyStatus::bad_argument;
     }
     case MsgType::cmd_get_calibration:
-      g_send_calibration = true;
+      g_send_after_reply |= kSendCalibration;
+      return ReplyStatus::ok;
+    case MsgType::cmd_info:
+      g_send_after_reply |= kSendInfo;
       return ReplyStatus::ok;
     case MsgType::cmd_stick_centre:
       return store_stick_centre(f.payload[0] != 0) ? ReplyStatus::ok : ReplyStatus::refused;
@@ -254,12 +286,24 @@ void send_state() {
   if (!uart::write(g_state_frame.bytes, n)) g_state_room_ms = kStateRoomHold_ms;
 }
 
-void send_calibration() {
-  // not sent: it is sent on a later tick, nothing is lost, so it gives its number back (no gap)
-  if (send(MsgType::calibration, protocol::encode(calibration(), kPayload)))
-    g_send_calibration = false;
-  else
-    --g_seq;
+// the calibration frame, then the info frame, as asked; one not sent is sent on a later tick,
+// nothing is lost, so it gives its number back (no gap)
+void send_after_reply() {
+  if (g_send_after_reply & kSendCalibration) {
+    if (!send(MsgType::calibration, protocol::encode(calibration(), kPayload))) {
+      --g_seq;
+      return;
+    }
+    g_send_after_reply &= (uint8_t)~kSendCalibration;
+  }
+  if (g_send_after_reply & kSendInfo) {
+    memcpy_P(kPayload, &kInfoInFlash, sizeof(protocol::InfoMsg));
+    if (!send(MsgType::info, (uint8_t)sizeof(protocol::InfoMsg))) {
+      --g_seq;
+      return;
+    }
+    g_send_after_reply &= (uint8_t)~kSendInfo;
+  }
 }
 
 // At most kMaxRxStepsPerTick of the parser's steps a tick, each a byte from the receive ring
@@ -286,7 +330,10 @@ void receive(Requests& rq) {
 
 void start(uint8_t reset_cause, uint8_t calibration) {
   g_reset_cause = reset_cause;
-  const protocol::BootMsg b{reset_cause, calibration};
+  protocol::BootMsg b;
+  b.reset_cause = reset_cause;
+  b.calibration = calibration;
+  memcpy_P(&b.identity, &kInfoInFlash.identity, sizeof b.identity);  // (a constant copied would take RAM)
   send(MsgType::boot, protocol::encode(b, kPayload));
 }
 
@@ -300,7 +347,7 @@ void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   g_quiet_ms = arrived != g_arrived ? 0 : (uint8_t)(g_quiet_ms + ticks < 0xFF ? g_quiet_ms + ticks : 0xFF);
   g_arrived = arrived;
   if (uart::received() || g_parser.holding()) receive(rq);
-  if (g_send_calibration) send_calibration();
+  if (g_send_after_reply) send_after_reply();
   g_state_room_ms = g_state_room_ms > ticks ? (uint16_t)(g_state_room_ms - ticks) : 0;
   if (g_velocity_age_ms < 0xFF00) g_velocity_age_ms = (uint16_t)(g_velocity_age_ms + ticks);
   const bool arriving = g_velocity_age_ms < protocol::kVelocityTimeout_ms;

@@ -17,7 +17,7 @@ namespace wmra {
 namespace protocol {
 
 constexpr uint8_t kSync = 0xA5;
-constexpr uint8_t kVersion = 2;  // 2: the state frame's rx_overruns (a payload's layout changed)
+constexpr uint8_t kVersion = 3;  // 3: the boot frame's identity, the info frame (a payload's layout changed)
 constexpr uint8_t kMaxPayload = 64;
 constexpr uint8_t kHeaderBytes = 5;  // sync, version, type, seq, len
 constexpr uint8_t kFrameOverhead = kHeaderBytes + 2;

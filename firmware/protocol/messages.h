@@ -13,10 +13,10 @@ namespace wmra {
 namespace protocol {
 
 enum class MsgType : uint8_t {
-  state = 0x01, reply = 0x02, boot = 0x03, calibration = 0x04,  // firmware -> host
+  state = 0x01, reply = 0x02, boot = 0x03, calibration = 0x04, info = 0x05,  // firmware -> host
   cmd_stop = 0x10, cmd_rearm = 0x11, cmd_mode = 0x12, cmd_speed_scale = 0x13, cmd_home = 0x14,
   cmd_goto_pose = 0x15, cmd_store_pose = 0x16, cmd_velocity = 0x17, cmd_pot_calibration = 0x18,
-  cmd_get_calibration = 0x19, cmd_stick_centre = 0x1A,  // host -> firmware
+  cmd_get_calibration = 0x19, cmd_stick_centre = 0x1A, cmd_info = 0x1B,  // host -> firmware
 };
 
 // refused: the arm's state does not allow the command now; safety_held: a re-arm while the
@@ -123,9 +123,29 @@ struct ReplyMsg {  // to every command; the frame's own seq is the firmware's co
   }
 };
 
+// What the firmware is, in the boot and info frames: its version (config/version.h), the git
+// commit it was built from and the configuration headers' hash (cmake/build_identity.cmake)
+constexpr uint8_t kBuildTreeChanged = 0x01;    // Identity::build_flags: built with changes beside the commit
+constexpr uint8_t kBuildCommitUnknown = 0x02;  // not built from a git checkout (commit all zeros)
+struct Identity {
+  uint8_t version[3];   // major, minor, patch
+  uint8_t commit[6];    // the commit's first 12 hex digits, two a byte
+  uint8_t build_flags;  // kBuildTreeChanged | kBuildCommitUnknown
+  uint32_t config_hash;  // the first 32 bits of the SHA-256 of firmware/config/*.h
+
+  template <class Io, class Self>
+  static constexpr void fields(Io& io, Self& m) {
+    for (auto& v : m.version) io(v);
+    for (auto& v : m.commit) io(v);
+    io(m.build_flags);
+    io(m.config_hash);
+  }
+};
+
 struct BootMsg {  // once at start-up, before the first state frame
   uint8_t reset_cause;  // MCUSR, as in StateMsg
   uint8_t calibration;  // Calibration, | kBootJ6AngleRecorded
+  Identity identity;
 
   Calibration settings() const { return (Calibration)(calibration & ~kBootJ6AngleRecorded); }
   bool j6_angle_recorded() const { return (calibration & kBootJ6AngleRecorded) != 0; }
@@ -135,6 +155,32 @@ struct BootMsg {  // once at start-up, before the first state frame
   static constexpr void fields(Io& io, Self& m) {
     io(m.reset_cause);
     io(m.calibration);
+    Identity::fields(io, m.identity);
+  }
+};
+
+// After cmd_info: the identity and the numbers a technician checks against the arm
+// (firmware/config): the stick's top speeds, each joint's speed limit and soft limits (where the
+// motion slows to a stop, kSoftLimitMargin_deg inside the joint's limits), the control rate.
+struct InfoMsg {
+  Identity identity;
+  uint16_t hand_speed_mm_s;     // at full stick in XY and XZ
+  uint16_t wrist_speed_mrad_s;  // in R1 and R2
+  uint16_t joint_speed_mrad_s[6];
+  int16_t soft_min_mrad[6];
+  int16_t soft_max_mrad[6];
+  uint16_t loop_hz;
+
+  static constexpr MsgType kType = MsgType::info;
+  template <class Io, class Self>
+  static constexpr void fields(Io& io, Self& m) {
+    Identity::fields(io, m.identity);
+    io(m.hand_speed_mm_s);
+    io(m.wrist_speed_mrad_s);
+    for (auto& v : m.joint_speed_mrad_s) io(v);
+    for (auto& v : m.soft_min_mrad) io(v);
+    for (auto& v : m.soft_max_mrad) io(v);
+    io(m.loop_hz);
   }
 };
 
@@ -197,7 +243,8 @@ constexpr uint8_t kVelocityPayloadBytes = payload_bytes<VelocityCmd>();
 static_assert(kStatePayloadBytes <= kMaxPayload, "a state frame fits one frame");
 // the documented layouts (docs/telemetry.md): a change here is a change of kVersion
 static_assert(kStatePayloadBytes == 59 && kVelocityPayloadBytes == 12, "payload sizes as documented");
-static_assert(payload_bytes<ReplyMsg>() == 3 && payload_bytes<BootMsg>() == 2, "payload sizes as documented");
+static_assert(payload_bytes<ReplyMsg>() == 3 && payload_bytes<BootMsg>() == 16 && payload_bytes<InfoMsg>() == 56,
+              "payload sizes as documented");
 static_assert(payload_bytes<CalibrationMsg>() == 19 && payload_bytes<PotCalibrationCmd>() == 5, "payload sizes as documented");
 
 // Fills payload (room for kMaxPayload) and returns its length. The AVR lays a message out as
@@ -245,6 +292,7 @@ inline ReplyStatus check_command(const Frame& f) {
     case MsgType::cmd_rearm:
     case MsgType::cmd_home:
     case MsgType::cmd_get_calibration:
+    case MsgType::cmd_info:
       break;
     case MsgType::cmd_mode:
       len = 1;

@@ -13,6 +13,7 @@ void FirmwareTelemetry::take(const protocol::Frame& f) {
   protocol::ReplyMsg reply;
   protocol::BootMsg boot;
   protocol::CalibrationMsg calibration;
+  protocol::InfoMsg info;
   if (protocol::decode(f, state)) {
     states_.push_back(state);
     for (const std::string& name : telemetry::fault_names(state.faults & ~faults_seen_)) faults_.push_back(name);
@@ -23,6 +24,8 @@ void FirmwareTelemetry::take(const protocol::Frame& f) {
     boots_.push_back(boot);
   } else if (protocol::decode(f, calibration)) {
     calibrations_.push_back(calibration);
+  } else if (protocol::decode(f, info)) {
+    infos_.push_back(info);
   }
 }
 

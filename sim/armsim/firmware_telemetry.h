@@ -27,6 +27,7 @@ class FirmwareTelemetry : public TelemetryDecoder {
   const std::vector<protocol::ReplyMsg>& replies() const { return replies_; }
   const std::vector<protocol::BootMsg>& boots() const { return boots_; }
   const std::vector<protocol::CalibrationMsg>& calibrations() const { return calibrations_; }
+  const std::vector<protocol::InfoMsg>& infos() const { return infos_; }
   const telemetry::FrameStream& stream() const { return stream_; }  // frames, parser errors, seq gaps
 
  private:
@@ -37,6 +38,7 @@ class FirmwareTelemetry : public TelemetryDecoder {
   std::vector<protocol::ReplyMsg> replies_;
   std::vector<protocol::BootMsg> boots_;
   std::vector<protocol::CalibrationMsg> calibrations_;
+  std::vector<protocol::InfoMsg> infos_;
   uint32_t faults_seen_ = 0;
   std::vector<std::string> faults_;
 };

@@ -52,7 +52,7 @@ TEST(FirmwareTelemetry, NothingBeforeTheFirstFrame) {
 TEST(FirmwareTelemetry, DecodesWhatTheFirmwareSays) {
   using core::fault_mask;
   Feeder f;
-  f.message(BootMsg{0x01, 0}, 0);
+  f.message(BootMsg{0x01, 0, {}}, 0);
   f.message(state(20, 1, 0, 0), 1);
   EXPECT_EQ(f.t.state(), 1);
   EXPECT_EQ(f.t.mode(), 0);
@@ -61,8 +61,8 @@ TEST(FirmwareTelemetry, DecodesWhatTheFirmwareSays) {
   f.message(state(60, 6, 2, fault_mask(3) | fault_mask(4)), 4);  // j2_rail joins it
   f.bytes({0xA5, kVersion, 0x01, 0x05, 0x00, 0x12, 0x34});           // seq 5, bad CRC
   f.message(state(100, 6, 3, fault_mask(core::kFaultBitStickInvalid)), 6);
-  f.message(BootMsg{0x08 | 0x04, 2}, 0);  // watchdog and brown-out
-  f.message(BootMsg{0x00, 0}, 0);
+  f.message(BootMsg{0x08 | 0x04, 2, {}}, 0);  // watchdog and brown-out
+  f.message(BootMsg{0x00, 0, {}}, 0);
 
   EXPECT_EQ(f.t.state(), 6);
   EXPECT_EQ(f.t.mode(), 3);

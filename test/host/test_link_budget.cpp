@@ -97,9 +97,9 @@ TEST(ParserBudget, FloodsOfBrokenFramesThenAStop) {
   std::mt19937 rng(30u);
   std::vector<uint8_t> noise(2000);
   for (uint8_t& b : noise) b = (uint8_t)rng();
-  const std::vector<uint8_t> half = bytes_of("a50217050c320000");  // a velocity command cut after 3 of 12
-  const std::vector<uint8_t> says_64 = bytes_of("a502170540000102030405060708090a0b0c0d");
-  const std::vector<uint8_t> made = bytes_of("a5023fa540a502a50240a540a5a502a50240a540a5a502");
+  const std::vector<uint8_t> half = bytes_of("a50317050c320000");  // a velocity command cut after 3 of 12
+  const std::vector<uint8_t> says_64 = bytes_of("a503170540000102030405060708090a0b0c0d");
+  const std::vector<uint8_t> made = bytes_of("a5033fa540a503a50340a540a5a503a50340a540a5a503");
   struct Case {
     const char* name;
     const std::vector<uint8_t>* pattern;

@@ -118,17 +118,29 @@ TEST(TelemetryJson, ReplyBootAndCommands) {
             "{\"type\":\"reply\",\"seq\":40,\"command\":\"mode\",\"command_seq\":3,\"status\":\"ok\"}");
   EXPECT_EQ(to_json(parse_one(message_bytes(ReplyMsg{0x30, 4, 1}, 41))),
             "{\"type\":\"reply\",\"seq\":41,\"command\":\"unknown_48\",\"command_seq\":4,\"status\":\"unknown_command\"}");
-  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{1 << 3, 1}, 0))),
-            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\"],\"calibration\":\"defaults_blank\",\"j6_angle\":\"none\"}");
-  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x05, 0}, 0))),
-            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\",\"brown_out\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\"}");
-  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x88, 0}, 0))),
-            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\",\"inferred\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\"}");
-  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x60, 0}, 0))),
-            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"bit_5\",\"bit_6\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{1 << 3, 1, {}}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\"],\"calibration\":\"defaults_blank\",\"j6_angle\":\"none\",\"version\":\"0.0.0\",\"commit\":\"000000000000\",\"tree\":\"clean\",\"config_hash\":\"00000000\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x05, 0, {}}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\",\"brown_out\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\",\"version\":\"0.0.0\",\"commit\":\"000000000000\",\"tree\":\"clean\",\"config_hash\":\"00000000\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x88, 0, {}}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"watchdog\",\"inferred\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\",\"version\":\"0.0.0\",\"commit\":\"000000000000\",\"tree\":\"clean\",\"config_hash\":\"00000000\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x60, 0, {}}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"bit_5\",\"bit_6\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\",\"version\":\"0.0.0\",\"commit\":\"000000000000\",\"tree\":\"clean\",\"config_hash\":\"00000000\"}");
   // bit 7 of the calibration byte: J6's angle at rest was recorded (the settings' source apart)
-  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x01, 0x82}, 0))),
-            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\"],\"calibration\":\"defaults_bad_crc\",\"j6_angle\":\"recorded\"}");
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x01, 0x82, {}}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\"],\"calibration\":\"defaults_bad_crc\",\"j6_angle\":\"recorded\",\"version\":\"0.0.0\",\"commit\":\"000000000000\",\"tree\":\"clean\",\"config_hash\":\"00000000\"}");
+  // the firmware's identity by name: its version, commit, whether the tree had changes, the configuration's hash
+  EXPECT_EQ(to_json(parse_one(message_bytes(BootMsg{0x01, 0, Identity{{0, 7, 1}, {0x85, 0xe4, 0xee, 0x73, 0xd9, 0x0a}, 1, 0xdeadbeef}}, 0))),
+            "{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\","
+            "\"version\":\"0.7.1\",\"commit\":\"85e4ee73d90a\",\"tree\":\"changed\",\"config_hash\":\"deadbeef\"}");
+  InfoMsg info{Identity{{1, 0, 0}, {0, 0, 0, 0, 0, 0}, kBuildCommitUnknown, 1}, 150, 800, {800, 1000, 1000, 1600, 1500, 1500},
+               {-1518, -733, -2304, -2740, -1518, -6231}, {1518, 2304, 2740, 2740, 1518, 6231}, 1000};
+  EXPECT_EQ(to_json(parse_one(message_bytes(info, 9))),
+            "{\"type\":\"info\",\"seq\":9,\"version\":\"1.0.0\",\"commit\":\"000000000000\",\"tree\":\"unknown\","
+            "\"config_hash\":\"00000001\",\"hand_speed_mm_s\":150,\"wrist_speed_mrad_s\":800,"
+            "\"joint_speed_mrad_s\":[800,1000,1000,1600,1500,1500],\"soft_min_mrad\":[-1518,-733,-2304,-2740,-1518,-6231],"
+            "\"soft_max_mrad\":[1518,2304,2740,2740,1518,6231],\"loop_hz\":1000}");
+  EXPECT_EQ(to_json(parse_one(frame_bytes(0x1B, 8, {}))), "{\"type\":\"command\",\"command\":\"get_info\",\"seq\":8}");
   EXPECT_EQ(to_json(parse_one(message_bytes(CalibrationMsg{{819, 819, 819}, {15564, 15564, 15000}, {4000, 8000, -3}, 4}, 7))),
             "{\"type\":\"calibration\",\"seq\":7,\"at_min_counts_x16\":[819,819,819],\"at_max_counts_x16\":"
             "[15564,15564,15000],\"reading_counts_x16\":[4000,8000,-3],\"from_command\":4}");
@@ -163,14 +175,14 @@ TEST(FrameStream, CountsSeqGapsAndTheFramesMissingOfTheFirmwareOnly) {
   telemetry::FrameStream s;
   std::vector<uint8_t> bytes;
   auto add = [&](const std::vector<uint8_t>& b) { bytes.insert(bytes.end(), b.begin(), b.end()); };
-  add(message_bytes(BootMsg{1, 0}, 0));
+  add(message_bytes(BootMsg{1, 0, {}}, 0));
   add(message_bytes(StateMsg{}, 1));
   add(frame_bytes(0x10, 77, {}));                  // a host command: its own numbers
   add(message_bytes(ReplyMsg{0x10, 77, 0}, 2));
   add(message_bytes(StateMsg{}, 5));               // 3 and 4 lost: one gap
   add({0xA5, kVersion, 0x01, 0x06, 0x00, 0x00, 0x00});  // a bad CRC
   add(message_bytes(StateMsg{}, 7));               // 6 lost with it: a second gap
-  add(message_bytes(BootMsg{8, 0}, 0));            // a reset: no gap
+  add(message_bytes(BootMsg{8, 0, {}}, 0));            // a reset: no gap
   add(message_bytes(StateMsg{}, 1));
   int frames = 0;
   for (uint8_t b : bytes) {
@@ -233,11 +245,11 @@ TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
   EXPECT_EQ(r.err, "wmra-telemetry: frames 14, crc errors 0, framing errors 0, skipped bytes 1, seq gaps 0\n");
   r = cli("decode " + path);  // a file
   EXPECT_EQ(r.out, expected);
-  EXPECT_EQ(cli("encode stop").out, "a502100000cb2a\n");  // the CRC by hand: docs/telemetry.md
+  EXPECT_EQ(cli("encode stop").out, "a5031000007f5c\n");  // the CRC by hand: docs/telemetry.md
 }
 
 TEST(WmraTelemetryCli, DecodeCountsWhatWentWrong) {
-  std::vector<uint8_t> bytes = message_bytes(BootMsg{1, 0}, 0);
+  std::vector<uint8_t> bytes = message_bytes(BootMsg{1, 0, {}}, 0);
   const auto state = message_bytes(StateMsg{}, 2);  // seq 1 missing
   bytes.insert(bytes.end(), state.begin(), state.end());
   auto bad = message_bytes(StateMsg{}, 3);
@@ -357,7 +369,7 @@ struct Listener {
   }
   // boot frames until `command` comes back: the first ones may go before the port is open
   std::string boot_until(const std::string& command) {
-    const auto boot = message_bytes(BootMsg{1, 0}, 0);
+    const auto boot = message_bytes(BootMsg{1, 0, {}}, 0);
     std::string received;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (received.find(command) == std::string::npos && std::chrono::steady_clock::now() < deadline) {
@@ -397,7 +409,7 @@ TEST(WmraTelemetryCli, ListenOnAPseudoTerminal) {
   }
   const int status = listen.stop();
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status;
-  EXPECT_NE(out.find("{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\"}\n"),
+  EXPECT_NE(out.find("{\"type\":\"boot\",\"seq\":0,\"reset_cause\":[\"power_on\"],\"calibration\":\"eeprom\",\"j6_angle\":\"none\",\"version\":\"0.0.0\",\"commit\":\"000000000000\",\"tree\":\"clean\",\"config_hash\":\"00000000\"}\n"),
             std::string::npos)
       << out;
   EXPECT_NE(out.find("{\"type\":\"reply\",\"seq\":1,\"command\":\"stop\",\"command_seq\":9,\"status\":\"ok\"}\n"),

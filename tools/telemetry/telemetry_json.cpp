@@ -1,5 +1,7 @@
 #include "telemetry_json.h"
 
+#include <cstdio>
+
 #include "config/modes_config.h"
 #include "core/faults.h"
 #include "core/resolved_rate.h"
@@ -92,12 +94,34 @@ void add_state(Object& o, const protocol::StateMsg& m) {
   o.num("rx_overruns", m.rx_overruns);
 }
 
+void add_identity(Object& o, const protocol::Identity& id) {
+  o.str("version", version_text(id));
+  o.str("commit", to_hex(id.commit, sizeof id.commit));
+  o.str("tree", id.build_flags & protocol::kBuildCommitUnknown ? "unknown"
+                : id.build_flags & protocol::kBuildTreeChanged ? "changed"
+                                                                : "clean");
+  char hash[9];
+  std::snprintf(hash, sizeof hash, "%08lx", (unsigned long)id.config_hash);
+  o.str("config_hash", hash);
+}
+
+void add_info(Object& o, const protocol::InfoMsg& m) {
+  add_identity(o, m.identity);
+  o.num("hand_speed_mm_s", m.hand_speed_mm_s);
+  o.num("wrist_speed_mrad_s", m.wrist_speed_mrad_s);
+  o.nums("joint_speed_mrad_s", m.joint_speed_mrad_s);
+  o.nums("soft_min_mrad", m.soft_min_mrad);
+  o.nums("soft_max_mrad", m.soft_max_mrad);
+  o.num("loop_hz", m.loop_hz);
+}
+
 // the fields of a firmware frame; false when its payload does not decode
 bool add_report(Object& o, const Frame& f) {
   protocol::StateMsg state;
   protocol::ReplyMsg reply;
   protocol::BootMsg boot;
   protocol::CalibrationMsg calibration;
+  protocol::InfoMsg info;
   if (protocol::decode(f, state)) {
     add_state(o, state);
   } else if (protocol::decode(f, reply)) {
@@ -109,6 +133,9 @@ bool add_report(Object& o, const Frame& f) {
     o.strs("reset_cause", reset_cause_names(boot.reset_cause));
     o.str("calibration", calibration_name((uint8_t)boot.settings()));
     o.str("j6_angle", boot.j6_angle_recorded() ? "recorded" : "none");
+    add_identity(o, boot.identity);
+  } else if (protocol::decode(f, info)) {
+    add_info(o, info);
   } else if (protocol::decode(f, calibration)) {
     o.nums("at_min_counts_x16", calibration.at_min_counts_x16);
     o.nums("at_max_counts_x16", calibration.at_max_counts_x16);
@@ -143,7 +170,7 @@ void add_command_argument(Object& o, const Frame& f) {
       o.num("at_max_counts_x16", c.at_max_counts_x16);
       break;
     }
-    default: break;  // stop, rearm, home, get_calibration: no argument
+    default: break;  // stop, rearm, home, get_calibration, info: no argument
   }
 }
 
@@ -167,6 +194,7 @@ const char* type_name(uint8_t type) {
     case MsgType::reply: return "reply";
     case MsgType::boot: return "boot";
     case MsgType::calibration: return "calibration";
+    case MsgType::info: return "info";
     case MsgType::cmd_stop: return "stop";
     case MsgType::cmd_rearm: return "rearm";
     case MsgType::cmd_mode: return "mode";
@@ -178,6 +206,7 @@ const char* type_name(uint8_t type) {
     case MsgType::cmd_pot_calibration: return "pot_calibration";
     case MsgType::cmd_get_calibration: return "get_calibration";
     case MsgType::cmd_stick_centre: return "stick_centre";
+    case MsgType::cmd_info: return "get_info";
   }
   return nullptr;
 }
@@ -225,6 +254,10 @@ std::string to_json(const Frame& f) {
     o.str("payload", to_hex(f.payload, f.len));
   }
   return o.done();
+}
+
+std::string version_text(const protocol::Identity& id) {
+  return std::to_string(id.version[0]) + "." + std::to_string(id.version[1]) + "." + std::to_string(id.version[2]);
 }
 
 std::string to_hex(const uint8_t* bytes, size_t n) {

@@ -57,6 +57,7 @@ class FrameStream {
 std::string to_json(const protocol::Frame& frame);
 
 std::string to_hex(const uint8_t* bytes, size_t n);  // lowercase, no spaces
+std::string version_text(const protocol::Identity& id);  // "major.minor.patch"
 
 }  // namespace telemetry
 }  // namespace wmra

@@ -148,6 +148,7 @@ std::string encode(const std::vector<std::string>& words, uint8_t seq) {
       {"store", MsgType::cmd_store_pose, 1}, {"velocity", MsgType::cmd_velocity, 6},
       {"calibration", MsgType::cmd_get_calibration, 0}, {"calibrate", MsgType::cmd_pot_calibration, 3},
       {"calibrate-from", MsgType::cmd_pot_calibration, 5}, {"stick-centre", MsgType::cmd_stick_centre, 1},
+      {"info", MsgType::cmd_info, 0},
   };
   if (words.empty()) throw BadInput{"encode wants a command"};
   const std::string& word = words[0];

@@ -36,7 +36,7 @@ constexpr double kSimavrByte_s = 93e-6;
 constexpr double kStopWithin_s = 0.010;    // a stop after any garbage, from its last byte
 
 // a velocity command cut after 3 of its 12 payload bytes: the host died mid-frame
-const std::vector<uint8_t> kHalfFrame = {0xA5, 0x02, 0x17, 0x05, 0x0C, 0x32, 0x00, 0x00};
+const std::vector<uint8_t> kHalfFrame = {0xA5, 0x03, 0x17, 0x05, 0x0C, 0x32, 0x00, 0x00};
 
 std::vector<uint8_t> cat(std::vector<std::vector<uint8_t>> parts) {
   std::vector<uint8_t> out;

@@ -215,7 +215,7 @@ TEST(Armsim, DecodesTheFirmwaresTelemetry) {
   const std::string scenario_text =
       "0 joystick 0 0\n"
       "0.3 serial " + frame_hex(MsgType::cmd_mode, 3, {1}) + "\n" +
-      "0.5 serial 00ff" + frame_hex(MsgType::cmd_speed_scale, 4, {150}) + "a50201000000ffff\n" +
+      "0.5 serial 00ff" + frame_hex(MsgType::cmd_speed_scale, 4, {150}) + "a50301000000ffff\n" +
       "0.7 serial " + frame_hex(MsgType::cmd_speed_scale, 5, {40}) + "\n" +
       "1.0 end\n";
   const auto scenario = parse_scenario(scenario_text);
