@@ -16,7 +16,7 @@ enum class MsgType : uint8_t {
   state = 0x01, reply = 0x02, boot = 0x03, calibration = 0x04, info = 0x05,  // firmware -> host
   cmd_stop = 0x10, cmd_rearm = 0x11, cmd_mode = 0x12, cmd_speed_scale = 0x13, cmd_home = 0x14,
   cmd_goto_pose = 0x15, cmd_store_pose = 0x16, cmd_velocity = 0x17, cmd_pot_calibration = 0x18,
-  cmd_get_calibration = 0x19, cmd_stick_centre = 0x1A, cmd_info = 0x1B,  // host -> firmware
+  cmd_get_calibration = 0x19, cmd_stick_centre = 0x1A, cmd_info = 0x1B, cmd_jog = 0x1C,  // host -> firmware
 };
 
 // refused: the arm's state does not allow the command now; safety_held: a re-arm while the
@@ -230,6 +230,22 @@ struct PotCalibrationCmd {
   }
 };
 
+// Turns one joint at a speed while these keep coming (each within kVelocityTimeout_ms of the
+// last), to check a motor's direction or a pot in bring-up (docs/arm-guide.md). The firmware caps
+// the speed (config::kJogSpeed_mrad_s; a stepper before homing at kJogUnhomedSpeed_mrad_s) and
+// refuses it where the arm's state does not allow it.
+struct JogCmd {
+  uint8_t joint;  // 1..6
+  int16_t speed_mrad_s;
+
+  static constexpr MsgType kType = MsgType::cmd_jog;
+  template <class Io, class Self>
+  static constexpr void fields(Io& io, Self& m) {
+    io(m.joint);
+    io(m.speed_mrad_s);
+  }
+};
+
 template <class Msg>
 constexpr uint8_t payload_bytes() {
   wire::Count count{0};
@@ -245,7 +261,8 @@ static_assert(kStatePayloadBytes <= kMaxPayload, "a state frame fits one frame")
 static_assert(kStatePayloadBytes == 59 && kVelocityPayloadBytes == 12, "payload sizes as documented");
 static_assert(payload_bytes<ReplyMsg>() == 3 && payload_bytes<BootMsg>() == 16 && payload_bytes<InfoMsg>() == 56,
               "payload sizes as documented");
-static_assert(payload_bytes<CalibrationMsg>() == 19 && payload_bytes<PotCalibrationCmd>() == 5, "payload sizes as documented");
+static_assert(payload_bytes<CalibrationMsg>() == 19 && payload_bytes<PotCalibrationCmd>() == 5 && payload_bytes<JogCmd>() == 3,
+              "payload sizes as documented");
 
 // Fills payload (room for kMaxPayload) and returns its length. The AVR lays a message out as
 // the wire does (no padding: every type is byte-aligned; little-endian; the fields in their
@@ -317,11 +334,16 @@ inline ReplyStatus check_command(const Frame& f) {
     case MsgType::cmd_pot_calibration:
       len = payload_bytes<PotCalibrationCmd>();
       break;
+    case MsgType::cmd_jog:  // joint 1..6
+      len = payload_bytes<JogCmd>();
+      limit = 7;
+      break;
     default:
       return ReplyStatus::unknown_command;
   }
   if (f.len != len) return ReplyStatus::bad_length;
   if (limit && f.payload[0] >= limit) return ReplyStatus::bad_argument;
+  if ((MsgType)f.type == MsgType::cmd_jog && f.payload[0] == 0) return ReplyStatus::bad_argument;
   return ReplyStatus::ok;
 }
 

@@ -162,6 +162,13 @@ void add_command_argument(Object& o, const Frame& f) {
       o.nums("w_mrad_s", v.w_mrad_s);
       break;
     }
+    case MsgType::cmd_jog: {
+      protocol::JogCmd j{};
+      protocol::decode(f, j);
+      o.num("joint", j.joint);
+      o.num("speed_mrad_s", j.speed_mrad_s);
+      break;
+    }
     case MsgType::cmd_pot_calibration: {
       protocol::PotCalibrationCmd c{};
       protocol::decode(f, c);
@@ -207,6 +214,7 @@ const char* type_name(uint8_t type) {
     case MsgType::cmd_get_calibration: return "get_calibration";
     case MsgType::cmd_stick_centre: return "stick_centre";
     case MsgType::cmd_info: return "get_info";
+    case MsgType::cmd_jog: return "jog";
   }
   return nullptr;
 }

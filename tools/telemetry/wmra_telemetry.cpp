@@ -5,6 +5,7 @@
 //                                             a command frame as lowercase hex (armsim's "serial HEX")
 //       stop | rearm | home | mode xy|xz|r1|r2|gripper | speed PCT | goto SLOT | store SLOT
 //       | velocity VX VY VZ WX WY WZ          (m/s and rad/s, base frame)
+//       | info | jog J RAD_S                (J 1..6; one frame: a jog goes on while they keep coming)
 //       | calibration | calibrate J AT_MIN AT_MAX | calibrate-from J READING1 DEG1 READING2 DEG2
 //                                             read / set a DC joint's pot calibration (J 2..4, counts x 16);
 //                                             calibrate-from extrapolates the limits' readings from two
@@ -53,6 +54,8 @@ const char kUsage[] =
     "       wmra-telemetry encode COMMAND [ARG...] [--seq N]\n"
     "         COMMAND: stop | rearm | home | mode xy|xz|r1|r2|gripper | speed PCT | goto SLOT | store SLOT\n"
     "                  | velocity VX VY VZ WX WY WZ   (m/s, rad/s, base frame)\n"
+    "                  | info | jog J RAD_S   (J 1..6; one frame: a jog goes on while they keep coming)\n"
+    "                  | stick-centre store|forget\n"
     "                  | calibration | calibrate J AT_MIN AT_MAX   (J 2..4; pot counts x 16; 0 0: the config's)\n"
     "                  | calibrate-from J READING1 DEG1 READING2 DEG2   (two readings at measured angles)\n"
     "       wmra-telemetry listen DEVICE [--send HEX [--every MS]]\n";
@@ -148,7 +151,7 @@ std::string encode(const std::vector<std::string>& words, uint8_t seq) {
       {"store", MsgType::cmd_store_pose, 1}, {"velocity", MsgType::cmd_velocity, 6},
       {"calibration", MsgType::cmd_get_calibration, 0}, {"calibrate", MsgType::cmd_pot_calibration, 3},
       {"calibrate-from", MsgType::cmd_pot_calibration, 5}, {"stick-centre", MsgType::cmd_stick_centre, 1},
-      {"info", MsgType::cmd_info, 0},
+      {"info", MsgType::cmd_info, 0},         {"jog", MsgType::cmd_jog, 2},
   };
   if (words.empty()) throw BadInput{"encode wants a command"};
   const std::string& word = words[0];
@@ -188,6 +191,11 @@ std::string encode(const std::vector<std::string>& words, uint8_t seq) {
         v.w_mrad_s[i] = parse_milli(words[4 + i], kNames[3 + i]);
       }
       len = protocol::encode(v, payload);
+      break;
+    }
+    case MsgType::cmd_jog: {
+      const protocol::JogCmd j{(uint8_t)parse_int(words[1], 1, 6, "J (the joint)"), parse_milli(words[2], "RAD_S (rad/s)")};
+      len = protocol::encode(j, payload);
       break;
     }
     case MsgType::cmd_pot_calibration: {
