@@ -47,6 +47,8 @@ extern Arm g_arm;
 
 // the stick at a rail (unplugged, broken)
 bool stick_invalid(const control::JoystickOutput& stick);
+// running, with a move to a pose or a stream under way (or the stream's halt)
+bool running_busy();
 inline void raise_fault(uint8_t bit) { g_arm.faults |= core::fault_mask(bit); }
 
 }  // namespace app

@@ -15,6 +15,7 @@
 #include "app/dc_drives.h"
 #include "app/flash_config.h"
 #include "app/homing.h"
+#include "app/jog.h"
 #include "app/joint_moves.h"
 #include "app/motion.h"
 #include "app/stepper_drives.h"
@@ -145,6 +146,13 @@ void enter(core::ArmState state) {
     case core::ArmState::running:
       start_running();
       inputs::arm_switches(kSwitchesArmed);
+      break;
+    case core::ArmState::jog:
+      drives_on();
+      // before homing a stepper's count is not its angle: the jog stops at the joint's switches
+      // itself (core/jog.h), and J1 stops at the largest inertia's rate
+      if (!g_arm.homed) stepper_drives::use_largest_j1_stop();
+      inputs::arm_switches(g_arm.homed ? kSwitchesArmed : 0);
       break;
     default:
       hold_drives();
@@ -311,6 +319,9 @@ void iterate(Requests& rq, uint8_t ticks) {
   in.home_command = rq.home;
   in.homed = g_arm.homed;
   in.at_ready = joint_moves::arrived();
+  const bool stick_rests = stick_valid && stick_neutral;
+  in.jog_command = rq.jog_new;
+  in.jog_over = !(rq.jog_fresh && stick_rests) && jog::at_rest() && steppers::at_rest();
   g_arm.supervisor.update(in, ticks);
   const core::ArmState state = g_arm.supervisor.state();
   if (state != g_prev_state) {
@@ -329,6 +340,9 @@ void iterate(Requests& rq, uint8_t ticks) {
       break;
     case core::ArmState::running:
       stick_drives = running_tick(jobs, ticks, rq, stick, stick_valid, stick_neutral, long_press);
+      break;
+    case core::ArmState::jog:
+      jog::tick(rq, stick_rests, switches, ticks);
       break;
     default:
       break;
@@ -360,8 +374,12 @@ void iterate(Requests& rq, uint8_t ticks) {
     g_wrist_elapsed = 0;
   }
 
-  rq.stop = rq.rearm = rq.home = false;
+  rq.stop = rq.rearm = rq.home = rq.jog_new = false;
   rq.goto_slot = -1;
+}
+
+bool running_busy() {
+  return g_arm.supervisor.state() == core::ArmState::running && (g_moving || motion::streaming() || motion::stream_halted());
 }
 
 }  // namespace app

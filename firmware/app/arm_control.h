@@ -29,6 +29,11 @@ struct Requests {
   bool stream_taken_over;  // set by the iteration: a deflected stick took the stream over (link.cpp)
   int16_t v_mm_s[3];
   int16_t w_mrad_s[3];
+  // the jog (core/jog.h): its joint (1..6) and speed, kept from its last command; fresh while
+  // its commands keep coming (each within the stream's timeout); new, the tick one was accepted
+  uint8_t jog_joint;
+  int16_t jog_mrad_s;
+  bool jog_fresh, jog_new;
 };
 
 // What a command's checks read of the arm: status()'s flags, without the joints' angles and the
@@ -38,6 +43,7 @@ struct Condition {
   uint32_t faults;
   uint16_t switches;
   int16_t stick_q15[2];
+  bool busy;  // running, a move to a pose or a stream is under way (or the stream's halt)
 };
 
 // what telemetry reports

@@ -33,6 +33,7 @@ uint8_t g_reset_cause;
 uint16_t g_rejected;
 uint32_t g_next_state_ms;  // the next state frame is due at this tick::now_ms()
 uint16_t g_velocity_age_ms = 0xFFFF;  // since the last velocity command, accepted or refused
+uint8_t g_jog_age_ms = 0xFF;          // since the last jog command accepted (saturating)
 // The stream is over: its velocity commands are refused until none has come for the timeout,
 // so that the host must pause and begin a new one. Any stop ends it (the state leaves
 // running), and so does the stick: at a rail, deflected, or taking it over.
@@ -200,6 +201,23 @@ ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
       }
       return ReplyStatus::ok;
     }
+    case MsgType::cmd_jog: {
+      // before homing (the arm waits for the person), or running with nothing else under way;
+      // the stick neutral throughout (deflected, it ends the jog: no command is accepted then);
+      // one joint a jog (another's command waits until this one is over)
+      protocol::JogCmd jog{};
+      protocol::decode(f, jog);
+      const Condition c = condition();
+      const bool stick_rests = c.stick_q15[0] == 0 && c.stick_q15[1] == 0 && !(c.faults & core::fault_mask(core::kFaultBitStickInvalid));
+      const bool may = c.state == core::ArmState::wait_home || (c.state == core::ArmState::running && !c.busy) ||
+                       (c.state == core::ArmState::jog && jog.joint == rq.jog_joint);
+      if (!stick_rests || !may) return ReplyStatus::refused;
+      g_jog_age_ms = 0;
+      rq.jog_joint = jog.joint;
+      rq.jog_mrad_s = jog.speed_mrad_s;
+      rq.jog_new = true;
+      return ReplyStatus::ok;
+    }
     case MsgType::cmd_pot_calibration: {
       protocol::PotCalibrationCmd c{};
       protocol::decode(f, c);
@@ -354,6 +372,8 @@ void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   g_stream_ended = (g_stream_ended | rq.stream_taken_over) & arriving;
   rq.stream_taken_over = false;
   rq.velocity_fresh = arriving & !g_stream_ended;
+  g_jog_age_ms = g_jog_age_ms > 0xFF - ticks ? (uint8_t)0xFF : (uint8_t)(g_jog_age_ms + ticks);
+  rq.jog_fresh = g_jog_age_ms < protocol::kVelocityTimeout_ms;
   // one frame per period, after the first iteration at or past its start (every 20 ms from
   // boot, so the frames keep their phase whatever the iterations' lengths): the state of the
   // iteration just run, one tick's, sent two ticks later; a period missed whole is skipped, not

@@ -45,7 +45,7 @@ int main() {
   app::link::start(watchdog::reset_cause(), (uint8_t)((uint8_t)loaded | (j6_recorded ? protocol::kBootJ6AngleRecorded : 0)));
   sei();
 
-  static app::Requests requests{false, false, false, -1, false, false, {0, 0, 0}, {0, 0, 0}};
+  static app::Requests requests{false, false, false, -1, false, false, {0, 0, 0}, {0, 0, 0}, 0, 0, false, false};
   for (;;) {
     const uint8_t ticks = tick::wait();
     // TCNT1 read with interrupts off: its high byte comes through Timer1's TEMP byte, which the

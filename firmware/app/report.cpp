@@ -24,6 +24,7 @@ Condition condition() {
   c.switches = inputs::closed_switches();
   c.stick_q15[0] = stick.x_q15;
   c.stick_q15[1] = stick.y_q15;
+  c.busy = running_busy();
   return c;
 }
 

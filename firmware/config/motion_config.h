@@ -32,7 +32,15 @@ constexpr int16_t kSoftLimitZone_deg = 12;
 // band brakes in time with it (core/resolved_rate.h). The DC elbow runs on 70-100 ms behind a
 // braking reference; with less, the sweep's elbow ends inside the damped band (docs/motion.md).
 constexpr int16_t kSingularBrakeLag_ms = 100;
+// A jog (bring-up: one joint turned to check its motor's direction or its pot, SPEC 7) at most
+// this fast; a stepper before homing (its count is not its angle: no soft limit, only its
+// switches stop it) at most kJogUnhomedStepperSpeed_mrad_s
+constexpr int16_t kJogSpeed_mrad_s = 100;
+constexpr int16_t kJogUnhomedStepperSpeed_mrad_s = 50;
 
+static_assert(kJogSpeed_mrad_s > 0 && kJogSpeed_mrad_s <= 200 && kJogUnhomedStepperSpeed_mrad_s > 0 &&
+                  kJogUnhomedStepperSpeed_mrad_s <= kJogSpeed_mrad_s,
+              "kJogSpeed_mrad_s in (0, 200] mrad/s, kJogUnhomedStepperSpeed_mrad_s in (0, kJogSpeed_mrad_s]");
 static_assert(kMaxHandSpeed_m_s.num > 0 && kMaxHandSpeed_m_s.num * 100 <= 30 * kMaxHandSpeed_m_s.den,
               "kMaxHandSpeed_m_s in (0, 0.3] m/s");
 static_assert(kMaxWristSpeed_rad_s.num > 0 && kMaxWristSpeed_rad_s.num <= 2 * kMaxWristSpeed_rad_s.den,

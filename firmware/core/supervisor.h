@@ -25,6 +25,12 @@
 // stick has been neutral; a stop or a fault before the homing begins drops that request. A
 // short press in running cycles the modes of config::kModeCycle.
 // A stick that is not valid (at a rail: unplugged or broken) counts as not neutral.
+// A jog (bring-up: one joint turned while jog commands keep coming, core/jog.h) starts from
+// wait_home or from running (the link accepts one only with the stick neutral and, in running,
+// no move or stream under way); the drives are on meanwhile, and when the jog is over (no
+// command for the stream's timeout, or the stick deflected, and the joint at rest) the arm goes
+// back: to running where its steppers are homed, to wait_home otherwise.
+//   wait_home -> jog -> wait_home        running -> jog -> running
 #pragma once
 
 #include <stdint.h>
@@ -35,8 +41,8 @@ namespace wmra {
 namespace core {
 
 // The values are the state frame's (docs/telemetry.md): a new state takes the next number.
-enum class ArmState : uint8_t { boot, wait_neutral, homing, to_ready, running, stopped, fault, wait_home };
-constexpr ArmState kLastArmState = ArmState::wait_home;
+enum class ArmState : uint8_t { boot, wait_neutral, homing, to_ready, running, stopped, fault, wait_home, jog };
+constexpr ArmState kLastArmState = ArmState::jog;
 
 inline const char* to_string(ArmState s) {
   switch (s) {
@@ -48,6 +54,7 @@ inline const char* to_string(ArmState s) {
     case ArmState::stopped: return "stopped";
     case ArmState::fault: return "fault";
     case ArmState::wait_home: return "wait_home";
+    case ArmState::jog: return "jog";
   }
   return "?";
 }
@@ -73,6 +80,8 @@ struct SupervisorInputs {
   bool homed;          // every stepper has found its switch and its count is still its angle
   bool at_ready;       // the move to the ready pose has arrived
   bool drives_at_rest;  // no stepper is still braking from a stop
+  bool jog_command;     // the link accepted a jog command this tick
+  bool jog_over;        // no jog command for the timeout (or the stick deflected), the joint at rest
 };
 
 class Supervisor {
@@ -83,7 +92,7 @@ class Supervisor {
   config::Mode mode() const { return config::kModeCycle[mode_index_]; }
   // the joints may be driven (motor drivers enabled)
   bool drives_enabled() const {
-    return state_ == ArmState::homing || state_ == ArmState::to_ready || state_ == ArmState::running;
+    return state_ == ArmState::homing || state_ == ArmState::to_ready || state_ == ArmState::running || state_ == ArmState::jog;
   }
   // the stick may command the hand
   bool stick_enabled() const { return state_ == ArmState::running; }
@@ -135,8 +144,13 @@ class Supervisor {
           state_ = ArmState::wait_neutral;
         } else if ((in.long_press && released_waiting_) || in.home_command) {
           state_ = ArmState::homing;
+        } else if (in.jog_command) {
+          state_ = ArmState::jog;
         }
         released_waiting_ |= !in.button_down;
+        break;
+      case ArmState::jog:
+        if (in.jog_over) state_ = in.homed ? ArmState::running : ArmState::wait_home;
         break;
       case ArmState::homing:
         if (in.homed) {
@@ -155,6 +169,8 @@ class Supervisor {
           state_ = ArmState::wait_neutral;
           neutral_ms_ = 0;
           home_requested_ = true;
+        } else if (in.jog_command) {
+          state_ = ArmState::jog;
         } else if (in.short_press) {
           mode_index_ = (uint8_t)((mode_index_ + 1) % config::kModeCount);
         }

@@ -394,3 +394,79 @@ TEST(Supervisor, ARearmWithoutHomedSteppersWaitsForThePerson) {
 }
 
 }  // namespace
+
+namespace {
+
+// one tick with a jog command accepted by the link
+void jog_command(core::Supervisor& s, core::SupervisorInputs in) {
+  in.jog_command = true;
+  run(s, in, 1);
+}
+
+}  // namespace
+
+// A jog from the wait before homing: drives on while it lasts, back to the wait (the steppers
+// are not homed) when it is over; a jog never starts the homing
+TEST(Supervisor, AJogFromTheWaitGoesBackToTheWait) {
+  auto in = quiet();
+  core::Supervisor s = waiting_for_home(in);
+  ASSERT_EQ(s.state(), ArmState::wait_home);
+  EXPECT_FALSE(s.drives_enabled());
+  jog_command(s, in);
+  EXPECT_EQ(s.state(), ArmState::jog);
+  EXPECT_TRUE(s.drives_enabled());
+  EXPECT_FALSE(s.stick_enabled());
+  run(s, in, 500);  // the jog goes on until it is over
+  EXPECT_EQ(s.state(), ArmState::jog);
+  in.jog_over = true;
+  run(s, in, 1);
+  EXPECT_EQ(s.state(), ArmState::wait_home);
+  EXPECT_FALSE(s.drives_enabled());
+  in.jog_over = false;
+  long_press(s, in);  // the person's ask still starts the homing
+  EXPECT_EQ(s.state(), ArmState::homing);
+}
+
+TEST(Supervisor, AJogFromRunningGoesBackToRunning) {
+  core::Supervisor s = running_arm();
+  auto in = quiet();
+  in.homed = true;
+  jog_command(s, in);
+  EXPECT_EQ(s.state(), ArmState::jog);
+  EXPECT_FALSE(s.stick_enabled());
+  in.jog_over = true;
+  run(s, in, 1);
+  EXPECT_EQ(s.state(), ArmState::running);
+}
+
+// the safety button and faults stop a jog as they stop anything; a jog command elsewhere
+// (homing, the move to the ready pose, stopped) starts nothing
+TEST(Supervisor, AJogStopsAsAnythingDoesAndStartsOnlyFromTheWaitOrRunning) {
+  auto in = quiet();
+  core::Supervisor s = waiting_for_home(in);
+  jog_command(s, in);
+  in.safety_pressed = true;
+  run(s, in, 1);
+  EXPECT_EQ(s.state(), ArmState::stopped);
+  in.safety_pressed = false;
+  jog_command(s, in);
+  EXPECT_EQ(s.state(), ArmState::stopped);
+
+  core::Supervisor f = waiting_for_home(in);
+  jog_command(f, in);
+  in.faults = 1;
+  run(f, in, 1);
+  EXPECT_EQ(f.state(), ArmState::fault);
+  in.faults = 0;
+
+  core::Supervisor h = waiting_for_home(in);
+  long_press(h, in);
+  ASSERT_EQ(h.state(), ArmState::homing);
+  jog_command(h, in);
+  EXPECT_EQ(h.state(), ArmState::homing);
+  auto ready = quiet();
+  core::Supervisor r = moving_to_ready(ready);
+  ASSERT_EQ(r.state(), ArmState::to_ready);
+  jog_command(r, ready);
+  EXPECT_EQ(r.state(), ArmState::to_ready);
+}

@@ -1,9 +1,12 @@
 // What a technician bringing up a board relies on (docs/arm-guide.md, bring-up; SPEC 7): the boot
 // frame names the firmware (its version, the commit it was built from, the configuration's hash),
-// and `info` answers in any state with the same and the configured numbers. The firmware ELF in
-// the simulator; the expected numbers worked out here from the configuration and the arm's limits.
+// and `info` answers in any state with the same and the configured numbers; `jog` turns one joint
+// slowly, before homing (a stepper stopped by its switches) or running with the stick neutral,
+// and nothing else. The firmware ELF in the simulator, motion judged on the plant's true angles;
+// the expected numbers worked out here from the configuration and the arm's limits.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -74,6 +77,201 @@ TEST(BringUp, InfoAnswersInEveryStateWithTheConfiguredNumbers) {
       EXPECT_NEAR(info.soft_max_mrad[j], 1000 * (arm::q_max_rad(j) - margin_rad), 0.5) << "J" << j + 1;
     }
   }
+}
+
+// jog commands every 40 ms for `seconds` (the firmware stops a jog 100 ms after the last); the
+// replies' statuses counted
+struct JogReplies {
+  int ok = 0, refused = 0, other = 0;
+};
+JogReplies jog_for(Rig& rig, uint8_t joint, int16_t mrad_s, double seconds) {
+  const size_t replies_before = rig.telemetry.replies().size();
+  const double t0 = rig.sim.time_s();
+  static uint8_t seq = 0;
+  for (double t = 0; t < seconds; t += 0.04) {
+    rig.sim.send_serial(command(MsgType::cmd_jog, seq++, {joint, (uint8_t)mrad_s, (uint8_t)((uint16_t)mrad_s >> 8)}));
+    rig.run_to(t0 + t + 0.04);
+  }
+  JogReplies r;
+  for (size_t i = replies_before; i < rig.telemetry.replies().size(); ++i) {
+    const protocol::ReplyMsg& m = rig.telemetry.replies()[i];
+    if (m.command_type != (uint8_t)MsgType::cmd_jog) continue;
+    if (m.status == (uint8_t)protocol::ReplyStatus::ok) ++r.ok;
+    else if (m.status == (uint8_t)protocol::ReplyStatus::refused) ++r.refused;
+    else ++r.other;
+  }
+  return r;
+}
+
+double largest_other_travel(const plant::Joints& a, const plant::Joints& b, int jogged) {
+  double m = 0;
+  for (int j = 0; j < 6; ++j)
+    if (j != jogged) m = std::max(m, std::fabs(b[j] - a[j]));
+  return m;
+}
+
+// Before homing, with the drives off: a jog of a DC joint turns it at the speed asked (capped),
+// nothing else moves, it stops within the stream's timeout after the last command, and the arm
+// waits for the person again, without a fault (the standstill watch takes the new rest).
+TEST(BringUp, AJogBeforeHomingTurnsOneJointAndTheArmWaitsAgain) {
+  Rig rig(kFirmware);
+  ASSERT_GE(rig.run_until_state(core::ArmState::wait_home, 10.0), 0);
+  const plant::Joints before = rig.sim.q();
+  const JogReplies r = jog_for(rig, 3, 1000, 1.0);  // J3, asked 1 rad/s: capped
+  EXPECT_EQ(rig.state(), core::ArmState::jog);
+  const double t_last = rig.sim.time_s();
+  rig.run_to(t_last + 0.15);
+  const plant::Joints stopped = rig.sim.q();
+  rig.run_to(t_last + 1.0);
+  const plant::Joints after = rig.sim.q();
+  const double turned = after[2] - before[2];
+  std::printf("jog J3 before homing: %d ok, %d refused; turned %.1f mrad, others at most %.2f mrad, %.2f mrad after 0.15 s\n", r.ok,
+              r.refused, 1000 * turned, 1000 * largest_other_travel(before, after, 2), 1000 * std::fabs(after[2] - stopped[2]));
+  EXPECT_EQ(r.ok, 25);
+  EXPECT_EQ(r.refused + r.other, 0);
+  // 0.1 rad/s for about the second of commands and the timeout, less the ramps
+  EXPECT_GT(turned, 0.085);
+  EXPECT_LT(turned, 0.115);
+  EXPECT_LT(largest_other_travel(before, after, 2), 2e-3);
+  EXPECT_LT(std::fabs(after[2] - stopped[2]), 3e-3) << "J3 went on after the jog";
+  EXPECT_EQ(rig.state(), core::ArmState::wait_home);
+  EXPECT_EQ(rig.last().faults, 0u);
+  // and the person's ask still homes the arm
+  ASSERT_GE(rig.start(rig.sim.time_s() + 25.0), 0);
+}
+
+// Before homing a stepper's count is not its angle: slower (kJogUnhomedStepperSpeed_mrad_s), and
+// its switch stops it (J1 from 86 deg towards its high switch at 90)
+TEST(BringUp, AStepperJoggedBeforeHomingStopsAtItsSwitch) {
+  Rig rig(kFirmware);
+  ASSERT_GE(rig.run_until_state(core::ArmState::wait_home, 10.0), 0);
+  const plant::Joints before = rig.sim.q();
+  jog_for(rig, 1, 100, 1.0);
+  const double speed = (rig.sim.q()[0] - before[0]) / 1.0;
+  const JogReplies r = jog_for(rig, 1, 100, 3.0);  // on into the switch
+  rig.run_to(rig.sim.time_s() + 0.5);
+  const plant::Joints after = rig.sim.q();
+  std::printf("jog J1 before homing: %.1f mrad/s over its first second; at the end %.2f deg (switch at %.0f), switch %s, %d ok\n",
+              1000 * speed, (180.0 / arm::kPi * (after[0])), (double)arm::q_max_deg[0], rig.sim.plant().limit_closed(0, true) ? "closed" : "open", r.ok);
+  EXPECT_NEAR(speed, config::kJogUnhomedStepperSpeed_mrad_s / 1000.0, 0.01);
+  EXPECT_TRUE(rig.sim.plant().limit_closed(0, true));
+  EXPECT_LT(after[0], arm::q_max_rad(0) + 0.01) << "J1 ran on past its switch";
+  EXPECT_LT(largest_other_travel(before, after, 0), 2e-3);
+  EXPECT_EQ(rig.state(), core::ArmState::wait_home);
+  EXPECT_EQ(rig.last().faults, 0u);
+}
+
+// Running: a jog turns the joint and the arm runs again from where it ended: the stick's
+// commanded position starts there (no pull back to where the hand was before the jog)
+TEST(BringUp, AJogWhileRunningAndTheArmStaysWhereItEnded) {
+  Rig rig(kFirmware);
+  ASSERT_GE(rig.start(25.0), 0);
+  rig.run_to(rig.sim.time_s() + 1.0);
+  const plant::Joints before = rig.sim.q();
+  const JogReplies r = jog_for(rig, 4, -100, 1.0);
+  rig.run_to(rig.sim.time_s() + 0.5);
+  const plant::Joints ended = rig.sim.q();
+  EXPECT_EQ(rig.state(), core::ArmState::running);
+  rig.run_to(rig.sim.time_s() + 2.0);  // running, the stick neutral
+  const plant::Joints later = rig.sim.q();
+  double moved_after = 0;
+  for (int j = 0; j < 6; ++j) moved_after = std::max(moved_after, std::fabs(later[j] - ended[j]));
+  std::printf("jog J4 running: %d ok; turned %.1f mrad, others %.2f mrad; after it %.2f mrad\n", r.ok, 1000 * (ended[3] - before[3]),
+              1000 * largest_other_travel(before, ended, 3), 1000 * moved_after);
+  EXPECT_EQ(r.ok, 25);
+  EXPECT_LT(ended[3] - before[3], -0.085);
+  EXPECT_GT(ended[3] - before[3], -0.115);
+  EXPECT_LT(largest_other_travel(before, ended, 3), 2e-3);
+  EXPECT_LT(moved_after, 2e-3) << "something moved after the jog";
+}
+
+// Refused where the state does not allow it (stopped, homing, a move under way, the stick
+// deflected), nothing moving for it; a joint outside 1..6 is a bad argument
+TEST(BringUp, AJogIsRefusedWhereTheArmIsNotFreeForIt) {
+  Rig rig(kFirmware);
+  ASSERT_GE(rig.run_until_state(core::ArmState::wait_home, 10.0), 0);
+  rig.sim.send_serial(command(MsgType::cmd_jog, 1, {0, 100, 0}));
+  rig.sim.send_serial(command(MsgType::cmd_jog, 2, {7, 100, 0}));
+  rig.run_to(rig.sim.time_s() + 0.1);
+  const auto& replies = rig.telemetry.replies();
+  ASSERT_GE(replies.size(), 2u);
+  EXPECT_EQ(replies[replies.size() - 2].status, (uint8_t)protocol::ReplyStatus::bad_argument);
+  EXPECT_EQ(replies.back().status, (uint8_t)protocol::ReplyStatus::bad_argument);
+
+  rig.sim.send_serial(command(MsgType::cmd_home, 3));  // homing
+  rig.run_to(rig.sim.time_s() + 0.5);
+  ASSERT_EQ(rig.state(), core::ArmState::homing);
+  EXPECT_EQ(jog_for(rig, 2, 100, 0.2).refused, 5);
+  ASSERT_GE(rig.run_until_state(core::ArmState::running, rig.sim.time_s() + 25.0), 0);
+
+  rig.sim.set_joystick(0.5, 0);  // deflected
+  rig.run_to(rig.sim.time_s() + 0.3);
+  EXPECT_EQ(jog_for(rig, 2, 100, 0.2).refused, 5);
+  rig.sim.set_joystick(0, 0);
+  rig.run_to(rig.sim.time_s() + 1.0);
+
+  rig.sim.send_serial(command(MsgType::cmd_stop, 4));
+  rig.run_to(rig.sim.time_s() + 0.3);
+  ASSERT_EQ(rig.state(), core::ArmState::stopped);
+  const plant::Joints before = rig.sim.q();
+  EXPECT_EQ(jog_for(rig, 2, 100, 0.5).refused, 13);
+  EXPECT_LT(largest_other_travel(before, rig.sim.q(), -1), 1e-3);
+  EXPECT_EQ(rig.state(), core::ArmState::stopped);
+}
+
+// Running, a DC joint jogged towards its soft limit slows to a stop there
+TEST(BringUp, AJogStopsAtTheSoftLimit) {
+  Rig rig(kFirmware);
+  ASSERT_GE(rig.start(25.0), 0);
+  double highest = rig.sim.q()[3];
+  const double t0 = rig.sim.time_s();
+  rig.sim.every(0.01, [&highest](const sim::ArmSimulator& s) { highest = std::max(highest, s.q()[3]); });
+  // J4 from the ready pose up to its soft limit at 160 - 3 deg: at most ~40 s at 0.1 rad/s
+  for (int k = 0; k < 60 && rig.sim.q()[3] < arm::q_max_rad(3) - arm::deg_to_rad(config::kSoftLimitMargin_deg) - 0.01; ++k)
+    jog_for(rig, 4, 100, 1.0);
+  jog_for(rig, 4, 100, 2.0);  // pushing on at the limit
+  rig.run_to(rig.sim.time_s() + 0.5);
+  const double soft = arm::q_max_rad(3) - arm::deg_to_rad(config::kSoftLimitMargin_deg);
+  std::printf("jog J4 up: highest %.2f deg against the soft limit %.2f deg, after %.0f s\n", (180.0 / arm::kPi * (highest)),
+              (180.0 / arm::kPi * (soft)), rig.sim.time_s() - t0);
+  EXPECT_GT(highest, soft - arm::deg_to_rad(1));
+  EXPECT_LT(highest, soft + arm::deg_to_rad(0.5));
+  EXPECT_EQ(rig.state(), core::ArmState::running);
+  EXPECT_EQ(rig.last().faults, 0u);
+}
+
+// The person takes over: the stick deflected during a jog stops it at once (within the ramp),
+// and the arm waits for the stick to rest as after any deflection; every joint, J6 and J5 too,
+// jogs before homing without a fault
+TEST(BringUp, TheStickDeflectedEndsAJogAndEveryJointJogsBeforeHoming) {
+  Rig rig(kFirmware);
+  ASSERT_GE(rig.run_until_state(core::ArmState::wait_home, 10.0), 0);
+  for (uint8_t joint = 1; joint <= 6; ++joint) {
+    const plant::Joints before = rig.sim.q();
+    const JogReplies r = jog_for(rig, joint, joint % 2 ? -60 : 60, 0.5);
+    rig.run_to(rig.sim.time_s() + 0.5);
+    const plant::Joints after = rig.sim.q();
+    const double turned = after[joint - 1] - before[joint - 1];
+    std::printf("jog J%d before homing: %d ok, turned %.1f mrad, others %.2f mrad, state %s, faults %u\n", joint, r.ok, 1000 * turned,
+                1000 * largest_other_travel(before, after, joint - 1), core::to_string(rig.state()), (unsigned)rig.last().faults);
+    EXPECT_EQ(r.ok, 13) << "J" << (int)joint;
+    EXPECT_GT(std::fabs(turned), 0.015) << "J" << (int)joint;
+    EXPECT_EQ(turned > 0, joint % 2 == 0) << "J" << (int)joint << " turned the wrong way";
+    EXPECT_LT(largest_other_travel(before, after, joint - 1), 2e-3) << "J" << (int)joint;
+    EXPECT_EQ(rig.state(), core::ArmState::wait_home) << "J" << (int)joint;
+    EXPECT_EQ(rig.last().faults, 0u) << "J" << (int)joint;
+  }
+  // J2 jogging, then the stick deflected: it stops, and later commands are refused
+  jog_for(rig, 2, 100, 0.5);
+  rig.sim.set_joystick(0.6, 0);
+  const plant::Joints at_deflection = rig.sim.q();
+  const JogReplies during = jog_for(rig, 2, 100, 0.5);
+  const plant::Joints after = rig.sim.q();
+  std::printf("stick deflected during a J2 jog: %.1f mrad more, %d refused, state %s\n", 1000 * (after[1] - at_deflection[1]),
+              during.refused, core::to_string(rig.state()));
+  EXPECT_LT(after[1] - at_deflection[1], 0.01);
+  EXPECT_GE(during.refused, 10);
+  EXPECT_NE(rig.state(), core::ArmState::jog);
 }
 
 }  // namespace

@@ -146,7 +146,7 @@ TEST(ReportHtml, ModeAndStateAsTheirChanges) {
   EXPECT_NE(page.find("\"mode\":[[0,0],[0.5,2]]"), std::string::npos);
   EXPECT_NE(page.find("\"state\":[[0,1],[0.2,4]]"), std::string::npos);
   EXPECT_NE(page.find("\"modes\":[\"XY\",\"XZ\",\"R1\",\"R2\",\"gripper\"]"), std::string::npos);
-  EXPECT_NE(page.find("\"states\":[\"boot\",\"wait_neutral\",\"homing\",\"to_ready\",\"running\",\"stopped\",\"fault\",\"wait_home\"]"),
+  EXPECT_NE(page.find("\"states\":[\"boot\",\"wait_neutral\",\"homing\",\"to_ready\",\"running\",\"stopped\",\"fault\",\"wait_home\",\"jog\"]"),
             std::string::npos);
 }
 
