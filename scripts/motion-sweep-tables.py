@@ -3,6 +3,7 @@
 per mode the figures over the eligible tests (the ideal arm clear of the slow bands, the
 soft-limit zones, the speed limits and the DC motors' loaded speeds), and S15's pass rates (docs/design.md). Markdown on stdout.
    motion-sweep-tables.py OUT_DIR SEED COMMIT"""
+import argparse
 import csv
 import glob
 import math
@@ -39,7 +40,15 @@ def share(n, d):
 
 
 def main():
-    out_dir, seed, commit = sys.argv[1], sys.argv[2], sys.argv[3]
+    ap = argparse.ArgumentParser(description=__doc__.split("\n   ")[0], epilog="scripts/motion-sweep runs it.")
+    ap.add_argument("out_dir", metavar="OUT_DIR", help="the directory of the part-*.csv rows")
+    ap.add_argument("seed", metavar="SEED", help="the sweep's seed, for the text")
+    ap.add_argument("commit", metavar="COMMIT", help="the commit swept, for the text")
+    unknown = [w for w in sys.argv[1:] if w.startswith("-") and w not in ("-h", "--help")]
+    if unknown:
+        ap.error(f"unknown option '{unknown[0]}'")  # named before argparse's word on the missing arguments
+    a = ap.parse_args()
+    out_dir, seed, commit = a.out_dir, a.seed, a.commit
     r = [x for x in rows(out_dir) if x["reached"] == 1]
     unreached = len(rows(out_dir)) - len(r)
     poses = sorted({int(x["pose"]) for x in r})

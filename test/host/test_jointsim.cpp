@@ -507,7 +507,7 @@ CliRun cli(const std::string& args) { return simrun::run_command(std::string(JOI
 std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
 }  // namespace
 
-TEST(JointsimCli, CsvHeaderFirstAndErrorsExitNonZero) {
+TEST(JointsimCli, CsvHeaderFirstAndBadCommandLinesExitTwo) {
   CliRun r = cli("seed0 --duration 0.1");
   EXPECT_EQ(r.status, 0);
   EXPECT_EQ(first_line(r.out), "t,target,position,speed,lost");
@@ -536,7 +536,7 @@ TEST(JointsimCli, CsvHeaderFirstAndErrorsExitNonZero) {
   };
   for (const char* args : bad) {
     r = cli(args);
-    EXPECT_EQ(r.status, 1) << args;
+    EXPECT_EQ(r.status, 2) << args;
     EXPECT_EQ(r.out.rfind("jointsim: ", 0), 0u) << args << ": " << r.out;
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << args << ": " << r.out;  // the message, no CSV
   }

@@ -4,10 +4,13 @@
 //   armkin [--fixed] jinv Q1..Q6 VX VY VZ WX WY WZ
 //   armkin [--fixed] ik X Y Z R11 R12 R13 R21 R22 R23 R31 R32 R33
 //   armkin [--fixed] --batch      (the same commands, without "armkin", one per line on stdin)
+//   armkin --help | --version
 //
 // Units: m, rad, m/s, rad/s; base frame; the frame-6 origin. --fixed runs the fixed-point
 // instantiation that the firmware uses (inputs rounded to its formats, outputs converted back).
-// Bad input gets a message on stderr and a non-zero exit (in --batch: an {"error": ...} line).
+// A bad command line gets a message on stderr and exit status 2 (the tools' convention); in
+// --batch a bad line gets an {"error": ...} line, the other lines are answered, and the exit
+// status is 1.
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +23,7 @@
 
 #include "kinematics/inverse_jacobian.h"
 #include "kinematics/inverse_kinematics.h"
+#include "version_text.h"
 
 using namespace wmra;
 using D = kin::Floating<double>;
@@ -217,12 +221,16 @@ std::vector<std::string> split(const std::string& line) {
   return words;
 }
 
-int usage() {
-  std::fprintf(stderr,
-               "usage: armkin [--fixed] fk Q1..Q6\n"
-               "       armkin [--fixed] jinv Q1..Q6 VX VY VZ WX WY WZ\n"
-               "       armkin [--fixed] ik X Y Z R11 R12 R13 R21 R22 R23 R31 R32 R33\n"
-               "       armkin [--fixed] --batch   (commands on stdin, one per line)\n");
+const char kUsage[] =
+    "usage: armkin [--fixed] fk Q1..Q6\n"
+    "       armkin [--fixed] jinv Q1..Q6 VX VY VZ WX WY WZ\n"
+    "       armkin [--fixed] ik X Y Z R11 R12 R13 R21 R22 R23 R31 R32 R33\n"
+    "       armkin [--fixed] --batch   (commands on stdin, one per line)\n"
+    "       armkin --help | --version\n"
+    "Units: m, rad, m/s, rad/s; base frame. --fixed: the firmware's fixed-point arithmetic. JSON on stdout.\n";
+
+int usage_error(const std::string& message) {
+  std::cerr << "armkin: " << message << "\n" << kUsage;
   return 2;
 }
 
@@ -233,18 +241,26 @@ int main(int argc, char** argv) {
   std::vector<std::string> words;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (words.empty() && a == "--fixed") {
+    if (!words.empty()) {
+      words.push_back(a);  // the command's numbers, negative ones among them
+    } else if (a == "--fixed") {
       fixed = true;
-    } else if (words.empty() && a == "--batch") {
+    } else if (a == "--batch") {
       batch = true;
-    } else if (words.empty() && (a == "-h" || a == "--help")) {
-      return usage();
+    } else if (a == "-h" || a == "--help") {
+      std::cout << kUsage;
+      return 0;
+    } else if (a == "--version") {
+      std::cout << version_text("armkin") << "\n";
+      return 0;
+    } else if (a.size() > 1 && a[0] == '-') {
+      return usage_error("unknown option '" + a + "'");
     } else {
       words.push_back(a);
     }
   }
   if (batch) {
-    if (!words.empty()) return usage();
+    if (!words.empty()) return usage_error("--batch reads its commands from stdin, not the command line");
     int errors = 0;
     std::string line;
     while (std::getline(std::cin, line)) {
@@ -260,12 +276,12 @@ int main(int argc, char** argv) {
     }
     return errors ? 1 : 0;
   }
-  if (words.empty()) return usage();
+  if (words.empty()) return usage_error("no command (fk, jinv or ik)");
   try {
     std::cout << run_command(words, fixed) << "\n";
   } catch (const BadInput& e) {
     std::cerr << "armkin: " << e.message << "\n";
-    return 1;
+    return 2;
   }
   return 0;
 }

@@ -6,9 +6,11 @@
 //   jointsim dc --joint 2|3|4 --controller pid|relay --step-rad R [--start-rad 0] [--duration 3]
 //               [--rate 1000] [--poles P1,P2,P3] [--deadzone-deg 0.5] [--hysteresis-deg 0] [--relay-duty 1]
 //               [--noise-mv 1.5] [--seed 1] [--park-counts 0] [--no-payload] [--show-design]
+//   jointsim --help | --version
 //
 // What each models: sim.h and README. A wrong option, a missing or non-numeric value, or a value
-// out of range gets a message on stderr and exit status 1.
+// out of range gets a message on stderr and exit status 2 (the tools' convention for a bad
+// command line).
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "sim.h"
+#include "version_text.h"
 
 using namespace wmra;
 using namespace wmra::jointsim;
@@ -196,27 +199,35 @@ void dc(const std::vector<std::string>& words) {
   write_csv(std::cout, r);
 }
 
-int usage() {
-  std::fprintf(stderr,
-               "usage: jointsim seed0 [--target COUNTS] [--kp 13] [--kd 0.02] [--alpha 5000] [--vs 1000] [--dt 0.01]\n"
-               "                      [--duration 1] [--variant thesis|firmware] [--ramp-alpha A]\n"
-               "                      [--timer-hz 250000|2000000]\n"
-               "       jointsim seed1-relay --fs HZ --deadzone-deg D [--target-rad 6.2832] [--drive-v 12]\n"
-               "                      [--duration 6]\n"
-               "       jointsim dc --joint 2|3|4 --controller pid|relay --step-rad R [--start-rad 0] [--duration 3]\n"
-               "                      [--rate 1000] [--poles P1,P2,P3] [--deadzone-deg 0.5] [--hysteresis-deg 0] "
-               "[--relay-duty 1]\n"
-               "                      [--noise-mv 1.5] [--seed 1] [--park-counts 0] [--no-payload] [--show-design]\n"
-               "CSV on stdout, header line first.\n");
-  return 2;
-}
+const char kUsage[] =
+    "usage: jointsim seed0 [--target COUNTS] [--kp 13] [--kd 0.02] [--alpha 5000] [--vs 1000] [--dt 0.01]\n"
+    "                      [--duration 1] [--variant thesis|firmware] [--ramp-alpha A]\n"
+    "                      [--timer-hz 250000|2000000]\n"
+    "       jointsim seed1-relay --fs HZ --deadzone-deg D [--target-rad 6.2832] [--drive-v 12]\n"
+    "                      [--duration 6]\n"
+    "       jointsim dc --joint 2|3|4 --controller pid|relay --step-rad R [--start-rad 0] [--duration 3]\n"
+    "                      [--rate 1000] [--poles P1,P2,P3] [--deadzone-deg 0.5] [--hysteresis-deg 0] "
+    "[--relay-duty 1]\n"
+    "                      [--noise-mv 1.5] [--seed 1] [--park-counts 0] [--no-payload] [--show-design]\n"
+    "       jointsim --help | --version\n"
+    "CSV on stdout, header line first.\n";
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2) return usage();
+  if (argc < 2) {
+    std::cerr << "jointsim: no preset (seed0, seed1-relay or dc)\n" << kUsage;
+    return 2;
+  }
   const std::string preset = argv[1];
-  if (preset == "-h" || preset == "--help") return usage();
+  if (preset == "-h" || preset == "--help") {
+    std::cout << kUsage;
+    return 0;
+  }
+  if (preset == "--version") {
+    std::cout << version_text("jointsim") << "\n";
+    return 0;
+  }
   const std::vector<std::string> words(argv + 2, argv + argc);
   try {
     if (preset == "seed0") {
@@ -225,15 +236,17 @@ int main(int argc, char** argv) {
       seed1(words);
     } else if (preset == "dc") {
       dc(words);
+    } else if (preset.rfind("-", 0) == 0) {
+      throw BadInput{"unknown option '" + preset + "' (a preset comes first: seed0, seed1-relay or dc)"};
     } else {
       throw BadInput{"unknown preset '" + preset + "' (seed0, seed1-relay or dc)"};
     }
   } catch (const BadInput& e) {
     std::cerr << "jointsim: " << e.message << "\n";
-    return 1;
+    return 2;
   } catch (const BadOption& e) {
     std::cerr << "jointsim: " << preset << ": " << e.what() << "\n";
-    return 1;
+    return 2;
   }
   return 0;
 }
