@@ -174,7 +174,9 @@ void inputs(Json& j, const Scenario& scenario) {
 std::vector<std::array<std::string, 2>> summary_rows(const RunResult& result, const Scenario& scenario) {
   const sim::Measurements& m = result.measurements;
   std::vector<std::array<std::string, 2>> rows;
-  rows.push_back({"ran to the end", result.completed ? "yes" : "no: the simulated core stopped"});
+  rows.push_back({"ran to the end", result.completed     ? "yes"
+                                    : result.interrupted ? "no: ended by a signal (armsim --live)"
+                                                         : "no: the simulated core stopped"});
   rows.push_back({"simulated time", format("%.3f s of %.3f s", m.sim_time_s, scenario.end_s)});
   if (m.loop_high.count) {
     rows.push_back({"control loop", format("%.0f mean, %llu max cycles (%.0f / %.0f us)", m.loop_high.mean(),
@@ -227,6 +229,8 @@ std::string data_json(const RunResult& result, const Scenario& scenario, const s
   j.number(std::max(scenario.end_s, rows.empty() ? 0.0 : rows.back().t_s), 4);
   j.key("completed");
   j.raw(result.completed ? "true" : "false");
+  j.key("interrupted");
+  j.raw(result.interrupted ? "true" : "false");
 
   std::vector<std::string> modes, states;
   for (int i = 0; i < config::kModeCount; ++i) modes.push_back(mode_name(static_cast<config::Mode>(i)));

@@ -1,11 +1,12 @@
 #include "run.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <stdexcept>
-
-#include <sys/stat.h>
+#include <system_error>
 
 #include "armsim/firmware_telemetry.h"
 #include "armsim/json.h"
@@ -62,6 +63,13 @@ void apply(sim::ArmSimulator& sim, const Event& e) {
 
 }  // namespace
 
+void make_directories(const std::string& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error) throw std::runtime_error("cannot create " + dir + ": " + error.message());
+  if (!std::filesystem::is_directory(dir)) throw std::runtime_error("cannot create " + dir + ": a file of that name is in the way");
+}
+
 TrajectoryRow trajectory_row(double t_s, const std::array<double, 6>& q, int mode, int state) {
   kin::JointAngles<D> a;
   for (int j = 0; j < 6; ++j) a.q[j] = q[j];
@@ -74,7 +82,7 @@ TrajectoryRow trajectory_row(double t_s, const std::array<double, 6>& q, int mod
 
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options, const RowCallback& on_row) {
   if (options.sample_hz < 100) throw std::invalid_argument("trajectory rows: at least 100 per simulated second");
-  if (!options.out_dir.empty()) mkdir(options.out_dir.c_str(), 0777);
+  if (!options.out_dir.empty()) make_directories(options.out_dir);
   sim::SimConfig config;
   config.elf = options.elf;
   config.plant = options.plant;
@@ -112,17 +120,29 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
     while (at < events.size() && events[at].t_s <= up.t_s) ++at;
     events.insert(events.begin() + at, up);
   }
-  bool crashed = false;
+  // Runs the simulator to t_s: at once, or slice by slice through the live hook, which may end
+  // the run on the way
+  enum class Reached { time, crash, interruption };
+  auto advance = [&](double t_s) {
+    const uint64_t end_cycle = (uint64_t)std::llround(t_s * board::kCpuHz);
+    if (!options.live) return sim.run_until(t_s) == cpu_Crashed ? Reached::crash : Reached::time;
+    const uint64_t slice_cycles = std::max<uint64_t>(1, (uint64_t)std::llround(options.live->slice_s() * board::kCpuHz));
+    while (sim.cycle() < end_cycle) {
+      const uint64_t next_cycle = std::min(end_cycle, sim.cycle() + slice_cycles);
+      if (sim.run_until((double)next_cycle / board::kCpuHz) == cpu_Crashed) return Reached::crash;
+      if (!options.live->after_slice(sim)) return Reached::interruption;
+    }
+    return Reached::time;
+  };
+  Reached reached = Reached::time;
   for (const Event& e : events) {
     if (e.t_s > scenario.end_s) break;
-    if (sim.run_until(e.t_s) == cpu_Crashed) {
-      crashed = true;
-      break;
-    }
+    if ((reached = advance(e.t_s)) != Reached::time) break;
     apply(sim, e);
   }
-  if (!crashed) crashed = sim.run_until(scenario.end_s) == cpu_Crashed;
-  result.completed = !crashed;
+  if (reached == Reached::time) reached = advance(scenario.end_s);
+  result.completed = reached == Reached::time;
+  result.interrupted = reached == Reached::interruption;
   result.measurements = sim.measurements();
   result.uart_output = sim.uart_output();
   feed_telemetry(result.uart_output);  // what came after the last row
@@ -135,7 +155,14 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
     std::fclose(serial);
     write_trajectory_csv(options.out_dir + "/trajectory.csv", result.trajectory);
     write_summary_json(options.out_dir + "/summary.json", result, scenario, options);
-    write_report_html(options.out_dir + "/report.html", result, scenario,
+    // an interrupted run's report ends where the run did, with the events that took place
+    Scenario ran = scenario;
+    if (result.interrupted) {
+      ran.end_s = result.measurements.sim_time_s;
+      ran.events.erase(std::remove_if(ran.events.begin(), ran.events.end(), [&](const Event& e) { return e.t_s > ran.end_s; }),
+                       ran.events.end());
+    }
+    write_report_html(options.out_dir + "/report.html", result, ran,
                       options.title.empty() ? "armsim run" : options.title);
     if (config.profile) write_profile(options.out_dir + "/profile.txt", sim.core().profile(), "");
     if (config.profile_over_cycles) {
@@ -169,6 +196,7 @@ void write_summary_json(const std::string& path, const RunResult& result, const 
   std::fprintf(f, "{\n");
   std::fprintf(f, "  \"elf\": %s,\n", json_string(options.elf).c_str());
   std::fprintf(f, "  \"completed\": %s,\n", result.completed ? "true" : "false");
+  std::fprintf(f, "  \"interrupted\": %s,\n", result.interrupted ? "true" : "false");
   std::fprintf(f, "  \"sim_time_s\": %.6f,\n", m.sim_time_s);
   std::fprintf(f, "  \"scenario_end_s\": %.6f,\n", scenario.end_s);
   std::fprintf(f, "  \"cycles\": %llu,\n", (unsigned long long)m.cycles);

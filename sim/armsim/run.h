@@ -8,7 +8,8 @@
 //   profile.txt     with --profile
 //   profile-over-even.txt, profile-over-odd.txt   with --profile-over CYCLES
 // This is the API the scenario tests use: run_scenario() gives the rows and measurements in
-// memory, with a callback at every row for checks of their own.
+// memory, with a callback at every row for checks of their own. armsim --live hands the
+// simulator to a LiveHook (live_pty.h) between short slices of simulated time.
 #pragma once
 
 #include <array>
@@ -42,6 +43,16 @@ class TelemetryDecoder {
   virtual TelemetrySummary summary() const = 0;
 };
 
+// Something a run hands the simulator to every slice_s of simulated time, for instance to pace
+// it to the wall clock and connect its UART to a host (armsim --live, live_pty.h)
+class LiveHook {
+ public:
+  virtual ~LiveHook() = default;
+  virtual double slice_s() const = 0;
+  // After each slice; false ends the run there, its files written as at the scenario's end
+  virtual bool after_slice(sim::ArmSimulator& sim) = 0;
+};
+
 struct RunOptions {
   std::string elf;
   std::string out_dir;   // empty: write no files
@@ -55,6 +66,7 @@ struct RunOptions {
   plant::PlantConfig plant;
   TelemetryDecoder* telemetry = nullptr;  // null: a FirmwareTelemetry of run_scenario's own
   std::vector<uint8_t> eeprom;  // what the firmware finds in its EEPROM at power-up (empty: a blank chip)
+  LiveHook* live = nullptr;     // null: the run goes as fast as the host computes it
 };
 
 struct TrajectoryRow {
@@ -71,15 +83,19 @@ struct RunResult {
   std::vector<std::string> faults;  // reported by the firmware (telemetry)
   TelemetrySummary telemetry;
   std::vector<uint8_t> uart_output;
-  bool completed = false;  // ran to the scenario's end (false: the core crashed)
+  bool completed = false;    // ran to the scenario's end (false: the core crashed, or interrupted)
+  bool interrupted = false;  // the LiveHook ended it before the scenario's end (a signal)
 };
 
 using RowCallback = std::function<void(const sim::ArmSimulator&, const TrajectoryRow&)>;
 
-// Runs the scenario; with out_dir set, writes trajectory.csv, summary.json, report.html (and
-// trace.vcd).
+// Runs the scenario; with out_dir set, creates it (and its parents) first and writes
+// trajectory.csv, summary.json, report.html (and trace.vcd) at the end.
 // Throws std::runtime_error when the ELF cannot be loaded or the files cannot be written.
 RunResult run_scenario(const Scenario& scenario, const RunOptions& options, const RowCallback& on_row = nullptr);
+
+// DIR and its parents, as mkdir -p makes them; throws std::runtime_error saying why not
+void make_directories(const std::string& dir);
 
 TrajectoryRow trajectory_row(double t_s, const std::array<double, 6>& q, int mode, int state);
 void write_trajectory_csv(const std::string& path, const std::vector<TrajectoryRow>& rows);

@@ -1,0 +1,33 @@
+// wmra-telemetry's command words to command frames: `encode`'s arguments and each line of a
+// session (`mode xz`, `speed 50`, `jog 2 0.05`, ...), and the number parsers behind them.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace wmra {
+namespace telemetry_cli {
+
+// Input a person typed that cannot be used; the message says what is wrong with it
+struct BadInput {
+  std::string message;
+};
+
+// The command frame for "COMMAND ARG..." with this seq, as bytes or as lowercase hex (what
+// `encode` prints and armsim's scenarios take). Throws BadInput naming the word at fault.
+std::vector<uint8_t> encode_frame(const std::vector<std::string>& words, uint8_t seq);
+std::string encode(const std::vector<std::string>& words, uint8_t seq);
+
+// A whole number in [lo, hi], or BadInput saying "WHAT must be a whole number from LO to HI"
+long parse_int(const std::string& word, long lo, long hi, const std::string& what);
+// A finite number in [lo, hi], or BadInput likewise
+double parse_number(const std::string& word, double lo, double hi, const std::string& what);
+// Hex digits, two a byte (no spaces), or BadInput naming `what`
+std::vector<uint8_t> parse_hex(const std::string& hex, const std::string& what);
+
+// Splits a line at spaces and tabs
+std::vector<std::string> split_words(const std::string& line);
+
+}  // namespace telemetry_cli
+}  // namespace wmra
