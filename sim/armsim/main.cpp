@@ -1,7 +1,7 @@
 // armsim: run the firmware ELF at 16 MHz against the virtual arm through a scenario.
 //
 //   armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--profile-over CYCLES]
-//          [--seed N] [--rate HZ] [--no-payload] [--live [--pty LINK]]
+//          [--seed N] [--rate HZ] [--no-payload] [--live [--pty LINK] [--stdin]]
 //   armsim --help | --version
 //
 // Writes DIR/trajectory.csv, DIR/summary.json and DIR/report.html (and DIR/trace.vcd with
@@ -26,6 +26,7 @@
 
 #include <unistd.h>
 
+#include "armsim/live_console.h"
 #include "armsim/live_pty.h"
 #include "armsim/run.h"
 #include "armsim/scenario.h"
@@ -40,7 +41,7 @@ namespace {
 void print_usage(FILE* to) {
   std::fprintf(to,
                "usage: armsim --scenario FILE --out DIR [--elf FIRMWARE.elf] [--vcd] [--profile] [--profile-over CYCLES]\n"
-               "              [--seed N] [--rate HZ] [--no-payload] [--live [--pty LINK]]\n"
+               "              [--seed N] [--rate HZ] [--no-payload] [--live [--pty LINK] [--stdin]]\n"
                "       armsim --help | --version\n"
                "  writes DIR/trajectory.csv, summary.json, report.html (DIR and its parents are created)\n"
                "  --elf   firmware image (default: %s)\n"
@@ -59,7 +60,10 @@ void print_usage(FILE* to) {
                "          still apply at their times; Ctrl-C (SIGINT) or SIGTERM ends the run and writes\n"
                "          the files as the scenario's end does.\n"
                "  --pty LINK  with --live: LINK becomes a symbolic link to the pseudo-terminal (an older\n"
-               "          link there is replaced), removed at the end\n",
+               "          link there is replaced), removed at the end\n"
+               "  --stdin  with --live: the person's hands from the keyboard: events in the scenario's\n"
+               "          words without a time, one a line (joystick X Y, button press, estop down, ...),\n"
+               "          applied as they arrive\n",
                ARMSIM_DEFAULT_ELF[0] ? ARMSIM_DEFAULT_ELF : "none built: pass --elf");
 }
 
@@ -86,7 +90,7 @@ std::string elf_problem(const std::string& path, bool is_default) {
 
 int main(int argc, char** argv) {
   std::string scenario_path, out_dir, elf = ARMSIM_DEFAULT_ELF, pty_link;
-  bool elf_given = false, live = false, pty_given = false;
+  bool elf_given = false, live = false, pty_given = false, console = false;
   wmra::armsim::RunOptions options;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -118,6 +122,8 @@ int main(int argc, char** argv) {
       if (*end || options.sample_hz < 100 || options.sample_hz > 50000) return usage_error("--rate wants 100 to 50000 rows per second");
     } else if (a == "--live") {
       live = true;
+    } else if (a == "--stdin") {
+      console = true;
     } else if (a == "--pty" && has_value) {
       pty_link = argv[++i];
       pty_given = true;
@@ -133,6 +139,7 @@ int main(int argc, char** argv) {
   }
   if (scenario_path.empty() || out_dir.empty()) return usage_error("--scenario and --out are required");
   if (pty_given && !live) return usage_error("--pty goes with --live");
+  if (console && !live) return usage_error("--stdin goes with --live");
   if (pty_given && pty_link.empty()) return usage_error("--pty wants a path for the link");
 
   wmra::armsim::Scenario scenario;
@@ -156,11 +163,16 @@ int main(int argc, char** argv) {
   options.title = scenario_path.substr(scenario_path.find_last_of('/') + 1);
 
   std::unique_ptr<wmra::armsim::LivePty> live_pty;
+  std::unique_ptr<wmra::armsim::LiveConsole> live_console;
   try {
     wmra::armsim::make_directories(out_dir);  // before a live run: its files must not be lost at its end
     if (live) {
       live_pty = std::make_unique<wmra::armsim::LivePty>(pty_link);
       options.live = live_pty.get();
+      if (console) {
+        live_console = std::make_unique<wmra::armsim::LiveConsole>(*live_pty, STDIN_FILENO);
+        options.live = live_console.get();
+      }
       std::printf("pty: %s\n", live_pty->path().c_str());
       std::fflush(stdout);
       std::fprintf(stderr, "armsim: live until %.1f s of the scenario; the firmware's UART on %s%s%s; Ctrl-C ends the run\n",

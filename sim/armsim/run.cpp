@@ -43,7 +43,9 @@ void write_string_list(FILE* f, const char* key, const std::vector<std::string>&
   std::fprintf(f, "],\n");
 }
 
-void apply(sim::ArmSimulator& sim, const Event& e) {
+}  // namespace
+
+void apply_event(sim::ArmSimulator& sim, const Event& e) {
   switch (e.kind) {
     case Event::Kind::joystick: sim.set_joystick(e.x, e.y); break;
     case Event::Kind::button_press:
@@ -60,8 +62,6 @@ void apply(sim::ArmSimulator& sim, const Event& e) {
     case Event::Kind::serial: sim.send_serial(e.bytes); break;
   }
 }
-
-}  // namespace
 
 void make_directories(const std::string& dir) {
   std::error_code error;
@@ -138,7 +138,7 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
   for (const Event& e : events) {
     if (e.t_s > scenario.end_s) break;
     if ((reached = advance(e.t_s)) != Reached::time) break;
-    apply(sim, e);
+    apply_event(sim, e);
   }
   if (reached == Reached::time) reached = advance(scenario.end_s);
   result.completed = reached == Reached::time;

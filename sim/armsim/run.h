@@ -98,6 +98,8 @@ RunResult run_scenario(const Scenario& scenario, const RunOptions& options, cons
 void make_directories(const std::string& dir);
 
 TrajectoryRow trajectory_row(double t_s, const std::array<double, 6>& q, int mode, int state);
+// one event on the simulator now (a button_press as button_down: the caller releases it)
+void apply_event(sim::ArmSimulator& sim, const Event& e);
 void write_trajectory_csv(const std::string& path, const std::vector<TrajectoryRow>& rows);
 void write_summary_json(const std::string& path, const RunResult& result, const Scenario& scenario,
                         const RunOptions& options);

@@ -281,6 +281,47 @@ TEST(ArmsimLive, TelemetrySessionAgainstTheLiveArm) {
 
 // --help and --version on stdout with exit 0; usage errors on stderr with exit 2; an ELF that
 // is none, a link that would replace a file and an --out that cannot be made: exit 3
+// --stdin, the person's hands from the keyboard: `estop down` typed into armsim stops the arm at
+// once (the firmware reports it), a line that is no event is named on stderr and changes
+// nothing, and the end of stdin ends nothing but the console
+TEST(ArmsimLive, StdinEventsApplyAsTheyArrive) {
+  ASSERT_EQ(access(kFirmware.c_str(), R_OK), 0) << kFirmware << ": build the firmware (avr_images)";
+  const std::string scenario = write_text(test_name() + ".txt", "0 joystick 0 0\n8 end\n");
+  const std::string link = kOut + "/" + test_name() + ".pty", dir = kOut + "/" + test_name();
+  int keys[2];
+  ASSERT_EQ(pipe2(keys, O_CLOEXEC), 0);
+  test::ChildProcess armsim({ARMSIM, "--scenario", scenario, "--out", dir, "--elf", kFirmware, "--live", "--pty", link, "--stdin"},
+                            kOut + "/" + test_name() + "_armsim", "", keys[0]);
+  close(keys[0]);
+  for (auto start = Clock::now(); seconds_since(start) < 20 && armsim.out().find("pty: ") != 0;) usleep(10000);
+  ASSERT_EQ(armsim.out().find("pty: "), 0u) << armsim.err();
+  Host host(link);
+  ASSERT_GE(host.fd, 0);
+  auto state_within = [&](double max_s, const char* name) {
+    StateMsg m{};
+    host.frames_until(max_s, [&](const std::vector<Frame>& f) {
+      return !f.empty() && decode(f.back(), m) && telemetry::state_name(m.state) == name;
+    });
+    return telemetry::state_name(m.state);
+  };
+  EXPECT_EQ(state_within(5.0, "wait_home"), "wait_home");
+  const std::string typed = "bogus 1\njoystick 2 0\nestop down\n";
+  ASSERT_EQ(write(keys[1], typed.data(), typed.size()), (ssize_t)typed.size());
+  const auto pressed = Clock::now();
+  EXPECT_EQ(state_within(1.0, "stopped"), "stopped");
+  EXPECT_LT(seconds_since(pressed), 0.3) << "the safety button typed in took effect late";
+  ASSERT_EQ(write(keys[1], "estop up\n", 9), 9);
+  close(keys[1]);  // the end of stdin: the run goes on
+  usleep(300000);
+  EXPECT_EQ(armsim.exit_status(false), -1) << "the run ended with stdin";
+  kill(armsim.pid, SIGTERM);
+  EXPECT_EQ(armsim.wait_s(10), 0) << armsim.err();
+  const std::string err = armsim.err();
+  EXPECT_NE(err.find("stdin: 'bogus 1'"), std::string::npos) << err;
+  EXPECT_NE(err.find("stdin: 'joystick 2 0'"), std::string::npos) << err;  // out of [-1, 1]
+  EXPECT_NE(err.find("estop down"), std::string::npos) << err;
+}
+
 TEST(ArmsimCommandLine, Conventions) {
   auto run = [](const std::vector<std::string>& args) {
     std::vector<std::string> argv = {ARMSIM};
