@@ -106,7 +106,9 @@ TEST_P(S11, TheArmHoldsWhereItStopped) {
               speed_m_s, travel_mm, drift_mm, trains_ms);
   ::testing::Test::RecordProperty("travel_mm", std::to_string(travel_mm));
   ::testing::Test::RecordProperty("drift_mm", std::to_string(drift_mm));
-  if (c.within_10_mm) EXPECT_LE(travel_mm, 10.0) << "the hand within 10 mm after the stop";
+  if (c.within_10_mm) {
+    EXPECT_LE(travel_mm, 10.0) << "the hand within 10 mm after the stop";
+  }
   EXPECT_LE(drift_mm, 1.0) << "nothing moves while stopped";
   EXPECT_FALSE(driven_while_stopped);
   EXPECT_FALSE(drivers_off) << "the steppers' drivers hold the arm";

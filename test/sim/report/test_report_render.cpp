@@ -82,8 +82,8 @@ TEST(ReportRender, EveryKindOfEventRenders) {
       [](double t) { return t < 0.5 ? 1 : t < 1 ? 2 : t < 3 ? 4 : 6; });
   run.faults = {"j3_rail", "tracking"};
   run.measurements.resets.push_back({(uint64_t)(2.5 * (double)board::kCpuHz), "watchdog"});
-  run.measurements.estop.push_back({1.5, 1.50004});
-  run.measurements.estop.push_back({3.8, -1});
+  run.measurements.estop.push_back({1.5, 1.50004, {}});
+  run.measurements.estop.push_back({3.8, -1, {}});
   run.measurements.sim_faults.push_back("core crashed at 3.9 s");
   run.measurements.loop_high.add(2800);
   run.completed = false;
