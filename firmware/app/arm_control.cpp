@@ -55,6 +55,7 @@ static_assert(kAdcSweepPhase_us + sizeof kAdcOrder * 104 + 30 < 1000, "the sweep
 
 // homing goes to J1's high switch and J5's low one, which are therefore not armed then
 constexpr uint16_t kSwitchesArmedHoming = kSwitchesArmed & ~kHomingSwitch[0] & ~kHomingSwitch[1];
+constexpr uint16_t kDcSwitches = 0x00FC;  // J2..J4's low and high switches (bits 2..7, inputs.h)
 constexpr uint16_t kOverrunReport_ms = 500;  // long enough for telemetry to see one missed tick
 
 core::ArmState g_prev_state = core::ArmState::boot;
@@ -150,9 +151,11 @@ void enter(core::ArmState state) {
     case core::ArmState::jog:
       drives_on();
       // before homing a stepper's count is not its angle: the jog stops at the joint's switches
-      // itself (core/jog.h), and J1 stops at the largest inertia's rate
+      // itself (core/jog.h), and J1 stops at the largest inertia's rate; a DC joint's pot is its
+      // angle, so its switch closing means a pot that reads wrong (limit_unexpected, as after
+      // homing), where a jog would otherwise stop at it without a word
       if (!g_arm.homed) stepper_drives::use_largest_j1_stop();
-      inputs::arm_switches(g_arm.homed ? kSwitchesArmed : 0);
+      inputs::arm_switches(g_arm.homed ? kSwitchesArmed : kDcSwitches);
       break;
     default:
       hold_drives();

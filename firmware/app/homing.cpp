@@ -47,6 +47,8 @@ void set_j6_recorded(const fx::Angle* j6_at_rest) {
   g_wrist.set_belief(core::WristBelief::exact);
 }
 
+bool j6_angle_exact() { return g_wrist.belief() == core::WristBelief::exact; }
+
 void restart() {
   for (uint8_t i = 0; i < 2; ++i) g_homing[i].restart();
   g_wrist.restart();

@@ -15,6 +15,8 @@ namespace homing {
 void configure();
 // J6's angle recorded in EEPROM at the last rest (nullptr: none): its count, and homing by it
 void set_j6_recorded(const fx::Angle* j6_at_rest);
+// J6's count is its angle before homing (its angle was recorded, and nothing has contradicted it)
+bool j6_angle_exact();
 void restart();
 // a homing tick: the sequences on the switches (inputs.h's bits); g_arm.homed once all are done
 void tick(uint16_t switches, uint8_t ticks);

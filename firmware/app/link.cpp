@@ -33,7 +33,11 @@ uint8_t g_reset_cause;
 uint16_t g_rejected;
 uint32_t g_next_state_ms;  // the next state frame is due at this tick::now_ms()
 uint16_t g_velocity_age_ms = 0xFFFF;  // since the last velocity command, accepted or refused
-uint8_t g_jog_age_ms = 0xFF;          // since the last jog command accepted (saturating)
+uint8_t g_jog_age_ms = 0xFF;          // since the last jog command, accepted or refused (saturating)
+// A jog refused (a stop, the stick taking over, a state that does not allow it) has ended: its
+// commands are refused until none has come for the timeout, so that a host still sending them
+// does not set the joint off again after a re-arm or when the stick is let go (as a stream)
+bool g_jog_ended;
 // The stream is over: its velocity commands are refused until none has come for the timeout,
 // so that the host must pause and begin a new one. Any stop ends it (the state leaves
 // running), and so does the stick: at a rail, deflected, or taking it over.
@@ -207,12 +211,13 @@ ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
       // one joint a jog (another's command waits until this one is over)
       protocol::JogCmd jog{};
       protocol::decode(f, jog);
+      g_jog_age_ms = 0;
       const Condition c = condition();
       const bool stick_rests = c.stick_q15[0] == 0 && c.stick_q15[1] == 0 && !(c.faults & core::fault_mask(core::kFaultBitStickInvalid));
       const bool may = c.state == core::ArmState::wait_home || (c.state == core::ArmState::running && !c.busy) ||
                        (c.state == core::ArmState::jog && jog.joint == rq.jog_joint);
-      if (!stick_rests || !may) return ReplyStatus::refused;
-      g_jog_age_ms = 0;
+      g_jog_ended |= !stick_rests || !may;
+      if (g_jog_ended) return ReplyStatus::refused;
       rq.jog_joint = jog.joint;
       rq.jog_mrad_s = jog.speed_mrad_s;
       rq.jog_new = true;
@@ -373,7 +378,9 @@ void poll(Requests& rq, uint8_t ticks, uint16_t loop_cycles) {
   rq.stream_taken_over = false;
   rq.velocity_fresh = arriving & !g_stream_ended;
   g_jog_age_ms = g_jog_age_ms > 0xFF - ticks ? (uint8_t)0xFF : (uint8_t)(g_jog_age_ms + ticks);
-  rq.jog_fresh = g_jog_age_ms < protocol::kVelocityTimeout_ms;
+  const bool jogs_arriving = g_jog_age_ms < protocol::kVelocityTimeout_ms;
+  g_jog_ended &= jogs_arriving;
+  rq.jog_fresh = jogs_arriving & !g_jog_ended;
   // one frame per period, after the first iteration at or past its start (every 20 ms from
   // boot, so the frames keep their phase whatever the iterations' lengths): the state of the
   // iteration just run, one tick's, sent two ticks later; a period missed whole is skipped, not

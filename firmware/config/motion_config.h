@@ -37,10 +37,15 @@ constexpr int16_t kSingularBrakeLag_ms = 100;
 // switches stop it) at most kJogUnhomedStepperSpeed_mrad_s
 constexpr int16_t kJogSpeed_mrad_s = 100;
 constexpr int16_t kJogUnhomedStepperSpeed_mrad_s = 50;
+// and such a stepper at most this far from where its count stood at power-up (J6 has no switch:
+// jogged on, it would wind its cables past its range; a J1 or J5 switch that does not work
+// would let the joint run onto its hard stop): enough to see its direction
+constexpr int16_t kJogUnhomedTravel_deg = 30;
 
 static_assert(kJogSpeed_mrad_s > 0 && kJogSpeed_mrad_s <= 200 && kJogUnhomedStepperSpeed_mrad_s > 0 &&
                   kJogUnhomedStepperSpeed_mrad_s <= kJogSpeed_mrad_s,
               "kJogSpeed_mrad_s in (0, 200] mrad/s, kJogUnhomedStepperSpeed_mrad_s in (0, kJogSpeed_mrad_s]");
+static_assert(kJogUnhomedTravel_deg >= 5 && kJogUnhomedTravel_deg <= 90, "kJogUnhomedTravel_deg in [5, 90] deg");
 static_assert(kMaxHandSpeed_m_s.num > 0 && kMaxHandSpeed_m_s.num * 100 <= 30 * kMaxHandSpeed_m_s.den,
               "kMaxHandSpeed_m_s in (0, 0.3] m/s");
 static_assert(kMaxWristSpeed_rad_s.num > 0 && kMaxWristSpeed_rad_s.num <= 2 * kMaxWristSpeed_rad_s.den,

@@ -34,11 +34,24 @@ TEST(Jog, TheRequestWithinTheCapEachWay) {
 }
 
 // before homing a stepper's count is not its angle: slower, and the soft limits do not apply (the
-// count may say anything), only its switches
-TEST(Jog, AStepperBeforeHomingSlowerAndStoppedOnlyByItsSwitches) {
+// count may say anything), only its switches and a travel of kJogUnhomedTravel_deg from where
+// its count stood at power-up
+TEST(Jog, AStepperBeforeHomingSlowerAndStoppedByItsSwitchesAndItsTravel) {
   const kin::JointAngles<Fixed> at_limit_by_count = pose_deg(89, 45, -30, 0, 89, 0);
-  EXPECT_NEAR(mrad_s(core::jog_speed(0, 100, false, at_limit_by_count, kLimits, kDrives, 0)), config::kJogUnhomedStepperSpeed_mrad_s, 0.1);
-  EXPECT_NEAR(mrad_s(core::jog_speed(4, 100, false, at_limit_by_count, kLimits, kDrives, 0)), config::kJogUnhomedStepperSpeed_mrad_s, 0.1);
+  const fx::Angle origin = fx::angle(arm::deg_to_rad(80));  // the count stood at 80 deg at power-up
+  EXPECT_NEAR(mrad_s(core::jog_speed(0, 100, false, at_limit_by_count, kLimits, kDrives, 0, origin)), config::kJogUnhomedStepperSpeed_mrad_s, 0.1);
+  EXPECT_NEAR(mrad_s(core::jog_speed(4, 100, false, at_limit_by_count, kLimits, kDrives, 0, origin)), config::kJogUnhomedStepperSpeed_mrad_s, 0.1);
+  // J6 (no switch) up to the travel each way from its origin, and back from beyond it
+  const double travel = config::kJogUnhomedTravel_deg;
+  const fx::Angle zero{0};
+  EXPECT_GT(core::jog_speed(5, 100, false, pose_deg(0, 45, -30, 0, 0, travel - 1), kLimits, kDrives, 0, zero).raw, 0);
+  EXPECT_EQ(core::jog_speed(5, 100, false, pose_deg(0, 45, -30, 0, 0, travel + 0.1), kLimits, kDrives, 0, zero).raw, 0);
+  EXPECT_LT(core::jog_speed(5, -100, false, pose_deg(0, 45, -30, 0, 0, travel + 0.1), kLimits, kDrives, 0, zero).raw, 0);
+  EXPECT_EQ(core::jog_speed(5, -100, false, pose_deg(0, 45, -30, 0, 0, -travel - 0.1), kLimits, kDrives, 0, zero).raw, 0);
+  EXPECT_EQ(core::jog_speed(0, 100, false, pose_deg(80 + travel + 0.1, 45, -30, 0, 0, 0), kLimits, kDrives, 0, origin).raw, 0);
+  // where J6's angle is known (recorded) its soft limits apply instead, not the travel
+  EXPECT_GT(core::jog_speed(5, 100, true, pose_deg(0, 45, -30, 0, 0, 300), kLimits, kDrives, 0).raw, 0);
+  EXPECT_EQ(core::jog_speed(5, 100, true, pose_deg(0, 45, -30, 0, 0, 357), kLimits, kDrives, 0).raw, 0);
   EXPECT_EQ(core::jog_speed(0, 100, false, kMidRange, kLimits, kDrives, 1u << 1).raw, 0);  // J1's high switch closed
   EXPECT_LT(core::jog_speed(0, -100, false, kMidRange, kLimits, kDrives, 1u << 1).raw, 0);  // away from it
   EXPECT_EQ(core::jog_speed(4, -100, false, kMidRange, kLimits, kDrives, 1u << 8).raw, 0);  // J5's low switch

@@ -274,4 +274,70 @@ TEST(BringUp, TheStickDeflectedEndsAJogAndEveryJointJogsBeforeHoming) {
   EXPECT_NE(rig.state(), core::ArmState::jog);
 }
 
+// A jog that a stop or the stick ended does not start again while its commands keep coming (a
+// host still sending them after the re-arm, or when the stick is let go): they are refused until
+// the host pauses for the timeout, then a new jog is accepted
+TEST(BringUp, AJogThatEndedStaysEndedUntilItsCommandsPause) {
+  Rig rig(kFirmware);
+  ASSERT_GE(rig.run_until_state(core::ArmState::wait_home, 10.0), 0);
+  jog_for(rig, 3, 100, 0.5);
+  rig.sim.send_serial(command(MsgType::cmd_stop, 1));
+  jog_for(rig, 3, 100, 0.5);
+  ASSERT_EQ(rig.state(), core::ArmState::stopped);
+  rig.sim.send_serial(command(MsgType::cmd_rearm, 2));
+  jog_for(rig, 3, 100, 1.0);  // wait_neutral, then the wait: the commands still coming
+  const plant::Joints rearmed = rig.sim.q();
+  const JogReplies after = jog_for(rig, 3, 100, 1.0);
+  const double moved_after_rearm = std::fabs(rig.sim.q()[2] - rearmed[2]);
+  EXPECT_EQ(rig.state(), core::ArmState::wait_home);
+  rig.run_to(rig.sim.time_s() + 0.2);  // the host pauses
+  const plant::Joints paused = rig.sim.q();
+  const JogReplies anew = jog_for(rig, 3, 100, 0.5);
+  std::printf("jog after stop and re-arm: %d refused, J3 %.2f mrad; after a pause: %d ok, J3 %.1f mrad\n", after.refused,
+              1000 * moved_after_rearm, anew.ok, 1000 * (rig.sim.q()[2] - paused[2]));
+  EXPECT_EQ(after.ok, 0);
+  EXPECT_LT(moved_after_rearm, 1e-3) << "the jog started again by itself";
+  EXPECT_EQ(anew.ok, 13);
+  EXPECT_GT(rig.sim.q()[2] - paused[2], 0.02);
+
+  // running: the stick takes the jog over; let go, the jog's commands still coming move nothing
+  ASSERT_GE(rig.start(rig.sim.time_s() + 25.0), 0);
+  rig.run_to(rig.sim.time_s() + 1.0);
+  jog_for(rig, 2, 100, 0.5);
+  rig.sim.set_joystick(0, 0.6);
+  jog_for(rig, 2, 100, 0.4);
+  rig.sim.set_joystick(0, 0);
+  jog_for(rig, 2, 100, 0.8);  // the hand comes to rest after the stick's release
+  const plant::Joints released = rig.sim.q();
+  const JogReplies taken = jog_for(rig, 2, 100, 1.0);
+  double moved = 0;
+  for (int j = 0; j < 6; ++j) moved = std::max(moved, std::fabs(rig.sim.q()[j] - released[j]));
+  std::printf("jog after the stick took it over: %d ok, %d refused; the arm moved %.2f mrad\n", taken.ok, taken.refused, 1000 * moved);
+  EXPECT_EQ(taken.ok, 0);
+  EXPECT_LT(moved, 1.5e-3);
+  EXPECT_EQ(rig.state(), core::ArmState::running);
+}
+
+// Before homing J6 (no switch, its angle not recorded) goes no further than
+// kJogUnhomedTravel_deg from where its count stood at power-up, however long the jog
+TEST(BringUp, J6JoggedBeforeHomingStaysWithinItsTravel) {
+  Rig rig(kFirmware);
+  ASSERT_GE(rig.run_until_state(core::ArmState::wait_home, 10.0), 0);
+  const double start = rig.sim.q()[5];
+  jog_for(rig, 6, 100, 15.0);
+  rig.run_to(rig.sim.time_s() + 0.5);
+  const double up = rig.sim.q()[5] - start;
+  jog_for(rig, 6, -100, 30.0);
+  rig.run_to(rig.sim.time_s() + 0.5);
+  const double down = rig.sim.q()[5] - start;
+  const double travel = arm::deg_to_rad(config::kJogUnhomedTravel_deg);
+  std::printf("J6 jogged before homing: up to %+.1f deg, down to %+.1f deg from its start (travel %d deg)\n", 180 / arm::kPi * up,
+              180 / arm::kPi * down, config::kJogUnhomedTravel_deg);
+  EXPECT_GT(up, travel - 0.02);
+  EXPECT_LT(up, travel + 0.01);
+  EXPECT_LT(down, -travel + 0.02);
+  EXPECT_GT(down, -travel - 0.01);
+  EXPECT_EQ(rig.last().faults, 0u);
+}
+
 }  // namespace
