@@ -214,10 +214,12 @@ ReplyStatus handle(const protocol::Frame& f, Requests& rq) {
       g_jog_age_ms = 0;
       const Condition c = condition();
       const bool stick_rests = c.stick_q15[0] == 0 && c.stick_q15[1] == 0 && !(c.faults & core::fault_mask(core::kFaultBitStickInvalid));
+      const bool jogging = c.state == core::ArmState::jog;
       const bool may = c.state == core::ArmState::wait_home || (c.state == core::ArmState::running && !c.busy) ||
-                       (c.state == core::ArmState::jog && jog.joint == rq.jog_joint);
-      g_jog_ended |= !stick_rests || !may;
-      if (g_jog_ended) return ReplyStatus::refused;
+                       (jogging && jog.joint == rq.jog_joint);
+      // (another joint's command while a jog goes on waits for it to end: no jog of its own ended)
+      g_jog_ended |= !stick_rests || (!may && !jogging);
+      if (g_jog_ended || !may) return ReplyStatus::refused;
       rq.jog_joint = jog.joint;
       rq.jog_mrad_s = jog.speed_mrad_s;
       rq.jog_new = true;

@@ -7,6 +7,7 @@
 #include "core/resolved_rate.h"
 #include "kinematics/fixed_trig.h"
 #include "kinematics/flash.h"
+#include "protocol/messages.h"
 
 namespace wmra {
 namespace app {
@@ -22,7 +23,7 @@ constexpr int16_t kConfigAtMax_counts_x16 = (int16_t)((int32_t)kPotAtMax_mV * 10
 // tracking thresholds are in pot units (15 mrad slows the hand, 50 stops it): with J4's 320 deg
 // over 600 counts a count is 9.3 mrad, and the slow threshold stays above 1.5 counts of noise.
 constexpr int16_t kMaxReading_counts_x16 = 1023 * 16;
-constexpr int32_t kMinSpan_counts_x16 = 600 * 16;
+constexpr int32_t kMinSpan_counts_x16 = protocol::kPotCalibrationMinSpan_counts_x16;
 constexpr bool plausible(int16_t at_min, int16_t at_max) {
   return at_min >= 0 && at_min <= kMaxReading_counts_x16 && at_max >= 0 && at_max <= kMaxReading_counts_x16 &&
          (int32_t)at_max - at_min >= kMinSpan_counts_x16;

@@ -215,7 +215,10 @@ struct CalibrationMsg {
 };
 
 // Sets one DC joint's pot calibration, kept in EEPROM; both values 0 return the joint to
-// joints_config.h. Refused while the drives are on: the joint's measured angle jumps with it.
+// joints_config.h. Refused while the drives are on: the joint's measured angle jumps with it,
+// and (bad_argument) unless both readings are within the 10-bit ADC's range and the upper
+// limit's at least kPotCalibrationMinSpan_counts_x16 above the lower's (firmware/app/settings.cpp).
+constexpr int32_t kPotCalibrationMinSpan_counts_x16 = 600 * 16;
 struct PotCalibrationCmd {
   uint8_t joint;  // 2, 3 or 4 (J2..J4)
   int16_t at_min_counts_x16;

@@ -19,6 +19,12 @@ extern char** environ;
 namespace wmra {
 namespace test {
 
+// argv: the program, then its options
+inline std::vector<std::string> argv_of(const std::string& program, std::vector<std::string> options) {
+  options.insert(options.begin(), program);
+  return options;
+}
+
 struct ChildProcess {
   pid_t pid = 0;  // 0: not started, or ended and waited for
   std::string out_path, err_path;

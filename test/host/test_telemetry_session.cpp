@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "child_process.h"
+#include "fake_board.h"
 #include "protocol/parser.h"
 #include "protocol_frames.h"
 
@@ -34,6 +35,7 @@ namespace {
 
 const std::string kOut = TELEMETRY_TEST_OUT;
 
+using test::FakeBoard;
 using test::read_file;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -44,108 +46,7 @@ std::string test_name() { return ::testing::UnitTest::GetInstance()->current_tes
 // into kOut/NAME.out and .err
 struct Tool : test::ChildProcess {
   Tool(const std::vector<std::string>& options, const std::string& stdin_path, int stdin_fd = -1)
-      : test::ChildProcess(with_program(options), kOut + "/" + test_name(), stdin_path, stdin_fd) {}
-  static std::vector<std::string> with_program(const std::vector<std::string>& options) {
-    std::vector<std::string> argv = {TELEMETRY_BIN};
-    argv.insert(argv.end(), options.begin(), options.end());
-    return argv;
-  }
-};
-
-// A board on the master side of a pseudo-terminal, as the firmware behaves on its link: a boot
-// frame boot_delay_s after the port is opened (a Mega's bootloader runs first), then a state
-// frame every 20 ms, and a reply to every command as reply_status says (-1: none). It starts
-// in wait_home; stop makes it stopped, rearm running, mode sets the mode; info sends an info
-// frame after its reply.
-struct FakeBoard {
-  int master = -1;
-  std::string port;
-  double boot_delay_s = 0.3;
-  std::function<int(const Frame&)> reply_status = [](const Frame&) { return 0; };
-  uint8_t state = 7, mode = 0;  // wait_home, xy
-  std::vector<Frame> commands;
-  std::vector<double> command_at_s;  // since the port was opened
-  double booted_at_s = -1;           // likewise
-  bool open = false;
-  Clock::time_point opened;
-  uint8_t seq = 0;
-  double next_state_s = 0;
-  Parser parser;
-
-  FakeBoard() {
-    master = posix_openpt(O_RDWR | O_NOCTTY | O_NONBLOCK);
-    if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0) return;
-    port = ptsname(master);
-    termios t;
-    tcgetattr(master, &t);
-    cfmakeraw(&t);
-    tcsetattr(master, TCSANOW, &t);
-    close(::open(port.c_str(), O_RDWR | O_NOCTTY));  // the master reads as hung up until the tool opens the port
-  }
-  ~FakeBoard() {
-    if (master >= 0) close(master);
-  }
-
-  void send(const std::vector<uint8_t>& bytes) { (void)!write(master, bytes.data(), bytes.size()); }
-
-  // Plays the board until the tool exits (its exit status) or max_s has passed (-1)
-  int serve(Tool& tool, double max_s) {
-    const auto start = Clock::now();
-    while (seconds_since(start) < max_s) {
-      const int status = tool.exit_status(false);
-      if (status >= 0) return status;
-      pollfd p{master, POLLIN, 0};
-      poll(&p, 1, 2);
-      if (!open) {
-        if (p.revents & POLLHUP) continue;
-        open = true;
-        opened = Clock::now();
-      }
-      const double t_s = seconds_since(opened);
-      if (booted_at_s < 0 && t_s >= boot_delay_s) {
-        booted_at_s = t_s;
-        send(message_bytes(BootMsg{1, 0, Identity{{1, 2, 3}, {0x85, 0xe4, 0xee, 0x73, 0xd9, 0x0a}, 0, 0xf67e1bfa}}, seq = 0));
-        next_state_s = t_s + 0.02;
-      }
-      if (booted_at_s >= 0 && t_s >= next_state_s) {
-        StateMsg s{};
-        s.t_ms = (uint32_t)((t_s - booted_at_s) * 1000);
-        s.state = state;
-        s.mode = mode;
-        s.switches = 1 << 10;
-        s.q_mrad[1] = 785;  // 45.0 deg
-        send(message_bytes(s, ++seq));
-        next_state_s += 0.02;
-      }
-      uint8_t buf[256];
-      const ssize_t n = read(master, buf, sizeof buf);
-      for (ssize_t i = 0; i < n; ++i) {
-        parser.push(buf[i]);
-        while (parser.next()) {
-          const Frame f = parser.frame();
-          commands.push_back(f);
-          command_at_s.push_back(t_s);
-          const int status = reply_status(f);
-          if (status < 0) continue;
-          send(message_bytes(ReplyMsg{f.type, f.seq, (uint8_t)status}, ++seq));
-          if (status != 0) continue;
-          switch ((MsgType)f.type) {
-            case MsgType::cmd_stop: state = 5; break;
-            case MsgType::cmd_rearm: state = 4; break;
-            case MsgType::cmd_mode: mode = f.payload[0]; break;
-            case MsgType::cmd_info:
-              send(message_bytes(InfoMsg{Identity{{1, 2, 3}, {0x85, 0xe4, 0xee, 0x73, 0xd9, 0x0a}, 0, 0xf67e1bfa}, 150, 800,
-                                         {800, 1000, 1000, 1600, 1500, 1500}, {-1518, -733, -2304, -2740, -1518, -6231},
-                                         {1518, 2304, 2740, 2740, 1518, 6231}, 1000},
-                                 ++seq));
-              break;
-            default: break;
-          }
-        }
-      }
-    }
-    return -1;
-  }
+      : test::ChildProcess(test::argv_of(TELEMETRY_BIN, options), kOut + "/" + test_name(), stdin_path, stdin_fd) {}
 };
 
 std::string write_commands(const std::string& text) {

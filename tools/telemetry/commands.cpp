@@ -36,8 +36,6 @@ double parse_double(const std::string& word, const std::string& what) {
   return v;
 }
 
-constexpr long kMaxReading_counts_x16 = 1023 * 16;
-
 // calibrate J AT_MIN AT_MAX
 protocol::PotCalibrationCmd pot_calibration(const std::vector<std::string>& words) {
   return protocol::PotCalibrationCmd{(uint8_t)parse_int(words[1], 2, 4, "J (the joint)"),
@@ -45,17 +43,26 @@ protocol::PotCalibrationCmd pot_calibration(const std::vector<std::string>& word
                                      (int16_t)parse_int(words[3], 0, kMaxReading_counts_x16, "AT_MAX (pot counts x 16)")};
 }
 
-// calibrate-from J READING1 DEG1 READING2 DEG2: the pot is linear in the joint angle, so the
-// readings at the limits (lib/kinematics/arm_model.h) lie on the line through the two points.
-// The soft limits keep a joint 3 deg inside its limits, so a joint cannot be driven there to be
-// read; two readings at angles measured with an inclinometer can be taken anywhere.
-protocol::PotCalibrationCmd pot_calibration_from(const std::vector<std::string>& words) {
+// calibrate-from J READING1 DEG1 READING2 DEG2
+protocol::PotCalibrationCmd pot_calibration_from_words(const std::vector<std::string>& words) {
   const int joint = (int)parse_int(words[1], 2, 4, "J (the joint)");
-  const double r1 = (double)parse_int(words[2], 0, kMaxReading_counts_x16, "READING1 (pot counts x 16)");
+  const int r1 = (int)parse_int(words[2], 0, kMaxReading_counts_x16, "READING1 (pot counts x 16)");
   const double a1 = parse_double(words[3], "DEG1");
-  const double r2 = (double)parse_int(words[4], 0, kMaxReading_counts_x16, "READING2 (pot counts x 16)");
+  const int r2 = (int)parse_int(words[4], 0, kMaxReading_counts_x16, "READING2 (pot counts x 16)");
   const double a2 = parse_double(words[5], "DEG2");
-  if (std::fabs(a2 - a1) < 10) throw BadInput{"DEG1 and DEG2 must be at least 10 deg apart"};
+  return pot_calibration_from(joint, r1, a1, r2, a2);
+}
+
+}  // namespace
+
+// The pot is linear in the joint angle, so the readings at the limits (lib/kinematics/arm_model.h)
+// lie on the line through the two points. The soft limits keep a joint 3 deg inside its limits,
+// so a joint cannot be driven there to be read; two readings at angles measured with an
+// inclinometer can be taken anywhere.
+protocol::PotCalibrationCmd pot_calibration_from(int joint, int reading1_counts_x16, double angle1_deg,
+                                                 int reading2_counts_x16, double angle2_deg) {
+  const double r1 = reading1_counts_x16, a1 = angle1_deg, r2 = reading2_counts_x16, a2 = angle2_deg;
+  if (std::fabs(a2 - a1) < kMinPointsApart_deg) throw BadInput{"DEG1 and DEG2 must be at least 10 deg apart"};
   const double per_deg = (r2 - r1) / (a2 - a1);
   const long at_min = std::lround(r1 + (arm::q_min_deg[joint - 1] - a1) * per_deg);
   const long at_max = std::lround(r1 + (arm::q_max_deg[joint - 1] - a1) * per_deg);
@@ -68,8 +75,6 @@ protocol::PotCalibrationCmd pot_calibration_from(const std::vector<std::string>&
   }
   return protocol::PotCalibrationCmd{(uint8_t)joint, (int16_t)at_min, (int16_t)at_max};
 }
-
-}  // namespace
 
 long parse_int(const std::string& word, long lo, long hi, const std::string& what) {
   errno = 0;
@@ -178,7 +183,7 @@ std::vector<uint8_t> encode_frame(const std::vector<std::string>& words, uint8_t
       break;
     }
     case MsgType::cmd_pot_calibration: {
-      const protocol::PotCalibrationCmd p = c->args == 3 ? pot_calibration(words) : pot_calibration_from(words);
+      const protocol::PotCalibrationCmd p = c->args == 3 ? pot_calibration(words) : pot_calibration_from_words(words);
       len = protocol::encode(p, payload);
       break;
     }

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "protocol/messages.h"
+
 namespace wmra {
 namespace telemetry_cli {
 
@@ -18,6 +20,19 @@ struct BadInput {
 // `encode` prints and armsim's scenarios take). Throws BadInput naming the word at fault.
 std::vector<uint8_t> encode_frame(const std::vector<std::string>& words, uint8_t seq);
 std::string encode(const std::vector<std::string>& words, uint8_t seq);
+
+// A pot's reading, ADC counts x 16 (the firmware's pot unit): 0..16,368
+constexpr int kMaxReading_counts_x16 = 1023 * 16;
+// The two points of a calibration at least this far apart: closer, a degree misread tilts the
+// line through them too far at the limits
+constexpr double kMinPointsApart_deg = 10;
+
+// A DC joint's (2..4) pot readings at its limits, extrapolated from two readings at measured
+// angles (`calibrate-from`). Throws BadInput when the angles are under kMinPointsApart_deg
+// apart, the reading falls as the angle rises (a pot wired reversed), or the limits' readings
+// come out beyond 0..kMaxReading_counts_x16.
+protocol::PotCalibrationCmd pot_calibration_from(int joint, int reading1_counts_x16, double angle1_deg,
+                                                 int reading2_counts_x16, double angle2_deg);
 
 // A whole number in [lo, hi], or BadInput saying "WHAT must be a whole number from LO to HI"
 long parse_int(const std::string& word, long lo, long hi, const std::string& what);

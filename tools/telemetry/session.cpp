@@ -1,19 +1,14 @@
 #include "session.h"
 
-#include <cerrno>
-#include <chrono>
-#include <csignal>
 #include <cstdio>
-#include <cstring>
 #include <functional>
 #include <map>
 #include <vector>
 
-#include <poll.h>
-#include <unistd.h>
-
 #include "commands.h"
+#include "core/supervisor.h"
 #include "frame_text.h"
+#include "serial_link.h"
 #include "serial_port.h"
 #include "telemetry_json.h"
 
@@ -22,34 +17,22 @@ namespace telemetry_cli {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using protocol::MsgType;
 
 constexpr auto kBootWait = std::chrono::seconds(3);      // a Mega's bootloader runs 1-2 s after the reset
 constexpr auto kReplyWait = std::chrono::seconds(1);
-constexpr auto kJogPeriod = std::chrono::milliseconds(40);  // the firmware stops a jog 100 ms after the last frame
+constexpr auto kJogEndWait = std::chrono::seconds(1);  // a jog's joint slowing to rest, then the 100 ms timeout
 constexpr uint32_t kStatusEvery_ms = 1000;                 // a status line at least this often, by the firmware's clock
-
-volatile std::sig_atomic_t g_stop = 0;
-void on_signal(int) { g_stop = 1; }
-
-// SIGINT and SIGTERM are blocked but while the session waits in ppoll(), with this mask: a
-// signal that comes between a look at g_stop and the wait still ends the wait at once
-sigset_t g_waiting_mask;
-
-int wait_for(pollfd* fds, nfds_t n, int timeout_ms) {
-  const timespec t{timeout_ms / 1000, (timeout_ms % 1000) * 1000000L};
-  return ppoll(fds, n, timeout_ms < 0 ? nullptr : &t, &g_waiting_mask);
-}
 
 class Session {
  public:
-  Session(int port, const SessionOptions& options) : port_(port), options_(options) {}
+  explicit Session(const SessionOptions& options)
+      : options_(options), link_(options.device, options.input_fd, [this](const protocol::Frame& f) { on_frame(f); }) {}
 
   int run() {
     wait_for_boot();
     std::string line;
-    while (!g_stop && next_line(line)) {
+    while (!stop_requested() && link_.next_line(line)) {
       ++line_number_;
       try {
         obey(line);
@@ -59,34 +42,19 @@ class Session {
       }
     }
     std::fprintf(stderr, "wmra-telemetry: %s; commands: %d sent, %d replied; lines not used: %d\n",
-                 stream_.summary().c_str(), sent_, replied_, bad_lines_);
+                 link_.stream().summary().c_str(), link_.sent(), replied_, bad_lines_);
     return bad_lines_ ? 2 : 0;
   }
 
  private:
-  // --- the port
-
-  // Reads what the port has (without waiting) and acts on every frame in it
-  void read_port() {
-    uint8_t buf[4096];
-    const ssize_t n = read(port_, buf, sizeof buf);
-    if (n == 0 || (n < 0 && errno == EIO)) throw IoError{options_.device + ": the port went away (its device closed)"};
-    if (n < 0) {
-      if (errno == EINTR || errno == EAGAIN) return;
-      throw IoError{options_.device + ": " + std::strerror(errno)};
-    }
-    for (ssize_t i = 0; i < n; ++i) {
-      stream_.push(buf[i]);
-      while (stream_.next()) on_frame(stream_.frame());
-    }
-  }
+  // --- what the firmware sends
 
   void on_frame(const protocol::Frame& f) {
     if (options_.json) print(telemetry::to_json(f));
     protocol::StateMsg state;
     protocol::ReplyMsg reply;
     if (protocol::decode(f, state)) {
-      heard_ = true;
+      state_ = state.state;
       if (!options_.json) show_status(state);
     } else if (protocol::decode(f, reply)) {
       const auto sent = commands_.find(reply.command_seq);
@@ -106,7 +74,6 @@ class Session {
         ++jog_replies_;
       }
     } else {
-      if (f.type == (uint8_t)MsgType::boot) heard_ = true;
       if (f.type == (uint8_t)MsgType::info || f.type == (uint8_t)MsgType::calibration) ++reports_;
       if (!options_.json) {
         for (const std::string& line : report_lines(f)) print(line);
@@ -124,69 +91,18 @@ class Session {
     print(status_line(s));
   }
 
-  void send(const std::vector<uint8_t>& frame) {
-    // one write, the bytes back to back: the firmware drops a frame with a 3 ms gap in it
-    const ssize_t n = write(port_, frame.data(), frame.size());
-    if (n != (ssize_t)frame.size()) throw IoError{options_.device + ": write: " + std::strerror(n < 0 ? errno : EIO)};
-    ++sent_;
-  }
-
-  // Reads the port until done() or the deadline (or a signal); whether done() came true
-  bool pump(Clock::time_point deadline, const std::function<bool()>& done) {
-    while (!done()) {
-      if (g_stop) return false;
-      const auto left_us = std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now()).count();
-      if (left_us <= 0) return false;
-      pollfd p{port_, POLLIN, 0};
-      const int ready = wait_for(&p, 1, (int)((left_us + 999) / 1000));  // never short of the deadline
-      if (ready < 0 && errno != EINTR) throw IoError{std::string("poll: ") + std::strerror(errno)};
-      if (ready > 0) read_port();
-    }
-    return true;
-  }
-
   void wait_for_boot() {
     std::fprintf(stderr,
                  "wmra-telemetry: %s open. A Mega resets when its port is first opened: waiting up to 3 s for its boot "
                  "frame. The session keeps the port open, so the commands below do not reset it again.\n",
                  options_.device.c_str());
-    if (!pump(Clock::now() + kBootWait, [&] { return heard_; }) && !g_stop) {
+    if (!link_.pump(Clock::now() + kBootWait, [&] { return link_.heard(); }) && !stop_requested()) {
       std::fprintf(stderr, "wmra-telemetry: nothing from %s in 3 s (the firmware running? the right port?): going on\n",
                    options_.device.c_str());
     }
   }
 
   // --- the input
-
-  // The next line of the input, the port read meanwhile; false at its end (or a signal)
-  bool next_line(std::string& line) {
-    for (;;) {
-      const size_t end = input_.find('\n');
-      if (end != std::string::npos) {
-        line = input_.substr(0, end);
-        input_.erase(0, end + 1);
-        return true;
-      }
-      if (input_ended_) {
-        line.swap(input_);
-        return !line.empty();
-      }
-      if (g_stop) return false;
-      pollfd p[2] = {{options_.input_fd, POLLIN, 0}, {port_, POLLIN, 0}};
-      const int ready = wait_for(p, 2, -1);
-      if (ready < 0) {
-        if (errno == EINTR) continue;
-        throw IoError{std::string("poll: ") + std::strerror(errno)};
-      }
-      if (p[1].revents) read_port();
-      if (p[0].revents) {
-        char buf[1024];
-        const ssize_t n = read(options_.input_fd, buf, sizeof buf);
-        if (n > 0) input_.append(buf, (size_t)n);
-        if (n == 0 || (n < 0 && errno != EINTR && errno != EAGAIN)) input_ended_ = true;
-      }
-    }
-  }
 
   void obey(std::string line) {
     line = line.substr(0, line.find('#'));
@@ -197,7 +113,7 @@ class Session {
     if (words[0] == "sleep") {
       if (words.size() != 2) throw BadInput{"sleep takes SECONDS"};
       const double s = parse_number(words[1], 0, 3600, "sleep (seconds)");
-      pump(Clock::now() + std::chrono::microseconds((long long)(s * 1e6)), [] { return false; });
+      link_.wait_until(Clock::now() + std::chrono::microseconds((long long)(s * 1e6)));
     } else if (words[0] == "jog") {
       jog(words, text);
     } else {
@@ -213,18 +129,18 @@ class Session {
     const uint8_t type = frame[2];
     remember(seq, type, text, true);
     const int reports_before = reports_;
-    send(frame);
+    link_.send(frame);
     const auto deadline = Clock::now() + kReplyWait;
-    if (!pump(deadline, [&] { return replies_.count(seq) != 0; })) {
+    if (!link_.pump(deadline, [&] { return replies_.count(seq) != 0; })) {
       commands_[seq].waited_out = true;
-      if (!g_stop) note("> " + text + ": no reply");
+      if (!stop_requested()) note("> " + text + ": no reply");
       return;
     }
     const uint8_t status = replies_[seq];
     const bool report_follows = type == (uint8_t)MsgType::cmd_info || type == (uint8_t)MsgType::cmd_get_calibration ||
                                 type == (uint8_t)MsgType::cmd_pot_calibration;
     if (report_follows && status == (uint8_t)protocol::ReplyStatus::ok) {
-      pump(deadline, [&] { return reports_ > reports_before; });
+      link_.pump(deadline, [&] { return reports_ > reports_before; });
     }
   }
 
@@ -238,24 +154,23 @@ class Session {
     jog_statuses_.clear();
     jog_replies_ = 0;
     std::vector<uint8_t> seqs;
-    const auto start = Clock::now();
-    const auto end = start + std::chrono::microseconds((long long)(seconds * 1e6));
-    for (auto at = start; at < end && !g_stop; at += kJogPeriod) {
-      pump(at, [] { return false; });
-      if (g_stop) break;
+    link_.repeat(kJogPeriod, std::chrono::microseconds((long long)(seconds * 1e6)), [&] {
       const uint8_t seq = next_seq_++;
       remember(seq, (uint8_t)MsgType::cmd_jog, text, seqs.empty(), true);
-      send(encode_frame(frame_words, seq));
+      link_.send(encode_frame(frame_words, seq));
       seqs.push_back(seq);
-    }
-    pump(Clock::now() + kReplyWait, [&] { return jog_replies_ == (int)seqs.size(); });
+    });
+    link_.pump(Clock::now() + kReplyWait, [&] { return jog_replies_ == (int)seqs.size(); });
     for (uint8_t seq : seqs) commands_[seq].waited_out = true;
-    if (jog_replies_ == 0 && !g_stop) note("> " + text + ": no reply");
+    if (jog_replies_ == 0 && !stop_requested()) note("> " + text + ": no reply");
     std::string summary = "> " + text + ": " + std::to_string(seqs.size()) + " frames:";
     for (const auto& [status, count] : jog_statuses_) summary += " " + std::to_string(count) + " " + status + ",";
     if (jog_replies_ < (int)seqs.size()) summary += " " + std::to_string(seqs.size() - jog_replies_) + " no reply,";
     summary.pop_back();
     note(summary);
+    // the joint comes to rest and the arm leaves its jog (100 ms after the last frame) before
+    // the next command: another joint's jog would be refused meanwhile
+    link_.pump(Clock::now() + kJogEndWait, [&] { return state_ != (uint8_t)core::ArmState::jog; });
   }
 
   // a command sent under seq: its reply is matched by seq and type (a seq comes round again
@@ -284,40 +199,26 @@ class Session {
     bool waited_out;  // the wait for its reply is over: a reply now is late
   };
 
-  const int port_;
   const SessionOptions& options_;
-  telemetry::FrameStream stream_;
-  bool heard_ = false;  // a state or boot frame came
+  SerialLink link_;
   bool shown_ = false;
   protocol::StateMsg shown_state_{};
+  uint8_t state_ = 0xFF;  // the latest state frame's state
   std::map<uint8_t, Sent> commands_;
   std::map<uint8_t, uint8_t> replies_;  // the status of each reply to this session's commands, by seq
   int reports_ = 0;  // info and calibration frames received
   std::map<std::string, int> jog_statuses_;  // the replies to the jog under way, by status
   int jog_replies_ = 0;
   uint8_t next_seq_ = 1;
-  int sent_ = 0, replied_ = 0, bad_lines_ = 0, line_number_ = 0;
-  std::string input_;
-  bool input_ended_ = false;
+  int replied_ = 0, bad_lines_ = 0, line_number_ = 0;
 };
 
 }  // namespace
 
 int run_session(const SessionOptions& options) {
-  const int port = open_serial(options.device);
-  struct sigaction sa = {};
-  sa.sa_handler = on_signal;  // no SA_RESTART: ppoll() returns and the session ends with its summary
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  sigprocmask(SIG_BLOCK, &stop_signals, &g_waiting_mask);
-  Session session(port, options);
-  const int status = session.run();
-  close(port);
-  return status;
+  Session session(options);
+  catch_stop_signals();
+  return session.run();
 }
 
 }  // namespace telemetry_cli

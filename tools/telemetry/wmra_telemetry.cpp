@@ -18,10 +18,12 @@
 //                                             stream: the firmware stops 100 ms after the last one)
 //   wmra-telemetry session DEVICE [--json]    the port kept open, commands from stdin one a line
 //                                             (session.h)
+//   wmra-telemetry calibrate DEVICE J         J's pot (2..4) calibrated with a person: jogged to two
+//                                             angles they measure, answers from stdin (calibrate.h)
 //
 // decode, listen and session end with a summary line on stderr (frames, errors, seq gaps).
-// Exit status: 0 done; 2 a bad command line, hex text or session line (the message says what);
-// 3 a file or port that cannot be opened, read or written.
+// Exit status: 0 done; 1 calibrate did not store; 2 a bad command line, hex text, session or
+// calibrate line (the message says what); 3 a file or port that cannot be opened, read or written.
 #include <cctype>
 #include <cerrno>
 #include <csignal>
@@ -34,6 +36,7 @@
 #include <poll.h>
 #include <unistd.h>
 
+#include "calibrate.h"
 #include "commands.h"
 #include "serial_port.h"
 #include "session.h"
@@ -64,6 +67,14 @@ const char kUsage[] =
     "         state, mode, faults or switches change and once a second; --json: every frame as decode\n"
     "         prints it (the replies' lines then go to stderr). The port stays open: a Mega resets\n"
     "         only when it is first opened, and the session waits up to 3 s for its boot frame.\n"
+    "       wmra-telemetry calibrate DEVICE J\n"
+    "         calibrates J's pot (J 2..4) with you, the arm waiting before homing (wait_home): shows\n"
+    "         J's reading and the firmware's angle, then reads your answers from stdin, one a line:\n"
+    "         + [SECONDS] | - [SECONDS]   jogs J at +-0.1 rad/s (0.1..20 s, default 1)\n"
+    "         DEG                         the angle you measure J at here (an inclinometer): a point\n"
+    "         two points at least 10 deg apart give J's readings at its limits; then store? yes | no.\n"
+    "         q quits; blank lines and # comments are skipped. Exit 0 stored, 1 not stored, 2 a line\n"
+    "         not used (whether or not it stored), 3 the port.\n"
     "       wmra-telemetry --help | --version\n";
 
 volatile std::sig_atomic_t g_stop = 0;
@@ -207,6 +218,14 @@ int run(const std::vector<std::string>& args) {
     options.device = args[1];
     options.input_fd = STDIN_FILENO;
     return run_session(options);
+  }
+  if (what == "calibrate") {
+    if (args.size() != 3 || args[1].rfind("--", 0) == 0) throw BadInput{"calibrate takes DEVICE J"};
+    CalibrateOptions options;
+    options.device = args[1];
+    options.joint = (int)parse_int(args[2], 2, 4, "J (the DC joint: 2, 3 or 4)");
+    options.input_fd = STDIN_FILENO;
+    return run_calibrate(options);
   }
   int fd = -1;
   std::vector<uint8_t> send;

@@ -26,6 +26,7 @@
 #include <unistd.h>
 
 #include "child_process.h"
+#include "live_arm.h"
 #include "protocol/parser.h"
 #include "protocol_frames.h"
 #include "telemetry_json.h"
@@ -41,7 +42,7 @@ const std::string kOut = ARMSIM_OUT;
 
 using test::read_file;
 
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+using test::seconds_since;
 
 std::string test_name() { return ::testing::UnitTest::GetInstance()->current_test_info()->name(); }
 
@@ -51,66 +52,11 @@ struct Process : test::ChildProcess {
       : test::ChildProcess(args, kOut + "/" + name, stdin_path) {}
 };
 
-// armsim --live with a scenario that holds the stick centred until end_s, the pty linked at
-// kOut/NAME.pty; the port's path once armsim has printed "pty: PATH" (empty if it did not)
-struct LiveArm {
-  std::string name, dir, link, pty;
-  std::unique_ptr<Process> armsim;
-  LiveArm(const std::string& test, double end_s) : name(test), dir(kOut + "/" + test), link(kOut + "/" + test + ".pty") {
-    const std::string scenario = kOut + "/" + test + ".txt";
-    std::ofstream(scenario) << "0 joystick 0 0\n" << end_s << " end\n";
-    std::filesystem::remove_all(dir);
-    armsim = std::make_unique<Process>(
-        test + "_armsim", std::vector<std::string>{ARMSIM, "--scenario", scenario, "--out", dir, "--elf", kFirmware, "--live", "--pty", link});
-    const auto start = Clock::now();
-    while (seconds_since(start) < 20 && armsim->pid > 0) {
-      const std::string out = armsim->out();
-      if (out.rfind("pty: ", 0) == 0 && out.back() == '\n') {
-        pty = out.substr(5, out.size() - 6);
-        break;
-      }
-      usleep(10000);
-    }
-  }
+// armsim --live with a scenario that holds the stick centred until end_s (test/common/live_arm.h)
+struct LiveArm : test::LiveArm {
+  LiveArm(const std::string& test, double end_s) : test::LiveArm(ARMSIM, kFirmware, kOut, test, end_s) {}
 };
-
-// A host on the port: opened raw, as wmra-telemetry opens it
-struct Host {
-  int fd = -1;
-  Parser parser;
-  explicit Host(const std::string& port) {
-    fd = open(port.c_str(), O_RDWR | O_NOCTTY);
-    if (fd < 0) return;
-    termios t;
-    tcgetattr(fd, &t);
-    cfmakeraw(&t);
-    tcsetattr(fd, TCSANOW, &t);
-    tcflush(fd, TCIOFLUSH);
-  }
-  ~Host() { hang_up(); }
-  void hang_up() {
-    if (fd >= 0) close(fd);
-    fd = -1;
-  }
-  bool send(const std::vector<uint8_t>& frame) { return write(fd, frame.data(), frame.size()) == (ssize_t)frame.size(); }
-  // the frames that come within max_s, until `enough` says so
-  template <class Enough>
-  std::vector<Frame> frames_until(double max_s, Enough enough) {
-    std::vector<Frame> frames;
-    const auto start = Clock::now();
-    while (seconds_since(start) < max_s && !enough(frames)) {
-      pollfd p{fd, POLLIN, 0};
-      if (poll(&p, 1, 10) != 1) continue;
-      uint8_t buf[512];
-      const ssize_t n = read(fd, buf, sizeof buf);
-      for (ssize_t i = 0; i < n; ++i) {
-        parser.push(buf[i]);
-        while (parser.next()) frames.push_back(parser.frame());
-      }
-    }
-    return frames;
-  }
-};
+using test::Host;
 
 const ReplyMsg* reply_to(const std::vector<Frame>& frames, uint8_t command_seq, ReplyMsg& reply) {
   for (const Frame& f : frames) {
