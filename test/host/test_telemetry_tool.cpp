@@ -236,6 +236,9 @@ TEST(WmraTelemetryCli, EncodeThenDecodeThroughAPipe) {
     all.insert(all.end(), bytes.begin(), bytes.end());
     expected += c.json + "\n";
   }
+  // calibrate-from shows the limits it computed, for the person to check before sending them
+  EXPECT_EQ(cli("encode calibrate-from 3 6000 0 8000 60").err,
+            "calibrate-from: J3 reads 1500 at -135 deg and 11333 at 160 deg (its limits, pot counts x 16)\n");
   all.push_back(0x00);  // a byte outside any frame
   const std::string path = kOut + "/commands.bin";
   write_bytes(path, all);

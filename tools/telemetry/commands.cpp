@@ -43,8 +43,10 @@ protocol::PotCalibrationCmd pot_calibration(const std::vector<std::string>& word
                                      (int16_t)parse_int(words[3], 0, kMaxReading_counts_x16, "AT_MAX (pot counts x 16)")};
 }
 
-// calibrate-from J READING1 DEG1 READING2 DEG2
+}  // namespace
+
 protocol::PotCalibrationCmd pot_calibration_from_words(const std::vector<std::string>& words) {
+  if (words.size() != 6) throw BadInput{"calibrate-from takes J READING1 DEG1 READING2 DEG2"};
   const int joint = (int)parse_int(words[1], 2, 4, "J (the joint)");
   const int r1 = (int)parse_int(words[2], 0, kMaxReading_counts_x16, "READING1 (pot counts x 16)");
   const double a1 = parse_double(words[3], "DEG1");
@@ -52,8 +54,6 @@ protocol::PotCalibrationCmd pot_calibration_from_words(const std::vector<std::st
   const double a2 = parse_double(words[5], "DEG2");
   return pot_calibration_from(joint, r1, a1, r2, a2);
 }
-
-}  // namespace
 
 // The pot is linear in the joint angle, so the readings at the limits (lib/kinematics/arm_model.h)
 // lie on the line through the two points. The soft limits keep a joint 3 deg inside its limits,

@@ -33,6 +33,8 @@ constexpr double kMinPointsApart_deg = 10;
 // come out beyond 0..kMaxReading_counts_x16.
 protocol::PotCalibrationCmd pot_calibration_from(int joint, int reading1_counts_x16, double angle1_deg,
                                                  int reading2_counts_x16, double angle2_deg);
+// The same from `calibrate-from J READING1 DEG1 READING2 DEG2`'s words (BadInput for bad ones)
+protocol::PotCalibrationCmd pot_calibration_from_words(const std::vector<std::string>& words);
 
 // A whole number in [lo, hi], or BadInput saying "WHAT must be a whole number from LO to HI"
 long parse_int(const std::string& word, long lo, long hi, const std::string& what);

@@ -36,6 +36,8 @@
 #include <poll.h>
 #include <unistd.h>
 
+#include "kinematics/arm_model.h"
+
 #include "calibrate.h"
 #include "commands.h"
 #include "serial_port.h"
@@ -206,6 +208,12 @@ int run(const std::vector<std::string>& args) {
       }
     }
     std::printf("%s\n", encode(words, seq).c_str());
+    // calibrate-from's computed limits, for the person to check before sending them
+    if (!words.empty() && words[0] == "calibrate-from") {
+      const protocol::PotCalibrationCmd c = pot_calibration_from_words(words);
+      std::fprintf(stderr, "calibrate-from: J%d reads %d at %d deg and %d at %d deg (its limits, pot counts x 16)\n", c.joint,
+                   c.at_min_counts_x16, arm::q_min_deg[c.joint - 1], c.at_max_counts_x16, arm::q_max_deg[c.joint - 1]);
+    }
     return 0;
   }
   if (what == "session") {
