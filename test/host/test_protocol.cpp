@@ -604,6 +604,13 @@ TEST(Commands, CheckCommand) {
   EXPECT_EQ(check(MsgType::cmd_stick_centre, {1}), S::ok);  // store
   EXPECT_EQ(check(MsgType::cmd_stick_centre, {2}), S::bad_argument);
   EXPECT_EQ(check(MsgType::cmd_stick_centre, {}), S::bad_length);
+  EXPECT_EQ(check(MsgType::cmd_info, {}), S::ok);
+  EXPECT_EQ(check(MsgType::cmd_info, {0}), S::bad_length);
+  // jog: joint 1..6, a speed of two bytes (its range is the firmware's to cap)
+  for (uint8_t joint = 1; joint <= 6; ++joint) EXPECT_EQ(check(MsgType::cmd_jog, {joint, 0xFF, 0x7F}), S::ok) << (int)joint;
+  EXPECT_EQ(check(MsgType::cmd_jog, {0, 100, 0}), S::bad_argument);
+  EXPECT_EQ(check(MsgType::cmd_jog, {7, 100, 0}), S::bad_argument);
+  EXPECT_EQ(check(MsgType::cmd_jog, {3, 100}), S::bad_length);
   // not commands: the firmware's own types, the gaps around the command range
-  for (uint8_t t : {0x00, 0x01, 0x02, 0x03, 0x04, 0x0F, 0x1B, 0xFF}) EXPECT_EQ(check((MsgType)t, {}), S::unknown_command) << (int)t;
+  for (uint8_t t : {0x00, 0x01, 0x02, 0x03, 0x04, 0x05, 0x0F, 0x1D, 0xFF}) EXPECT_EQ(check((MsgType)t, {}), S::unknown_command) << (int)t;
 }
