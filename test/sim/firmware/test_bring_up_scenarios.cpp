@@ -14,8 +14,10 @@
 #include "config/control_config.h"
 #include "config/motion_config.h"
 #include "config/version.h"
+#include "core/faults.h"
 #include "firmware_rig.h"
 #include "kinematics/arm_model.h"
+#include "telemetry_json.h"
 
 namespace {
 
@@ -338,6 +340,29 @@ TEST(BringUp, J6JoggedBeforeHomingStaysWithinItsTravel) {
   EXPECT_LT(down, -travel + 0.02);
   EXPECT_GT(down, -travel - 0.01);
   EXPECT_EQ(rig.last().faults, 0u);
+}
+
+// Before homing a DC joint's switch closing in a jog means its pot reads wrong (its angle is the
+// pot's): the arm stops with limit_unexpected, where the jog would otherwise stop at the switch
+// without a word. J4's pot calibrated 10 deg off (it reads 10 deg low), jogged up.
+TEST(BringUp, AJogOntoADcSwitchBeforeHomingNamesThePot) {
+  app::Settings s{};
+  constexpr int16_t kTenDeg_counts_x16 = 461;  // J4: 320 deg over 14,745 counts x 16
+  s.pot_at_min_counts_x16[2] = 819 + kTenDeg_counts_x16;
+  s.pot_at_max_counts_x16[2] = 15564 + kTenDeg_counts_x16;
+  s.pot_calibrated = 0x04;
+  Rig rig(kFirmware);
+  rig.sim.set_eeprom(test::settings_block(s));
+  ASSERT_GE(rig.run_until_state(core::ArmState::wait_home, 10.0), 0);
+  for (int k = 0; k < 40 && rig.state() != core::ArmState::fault; ++k) jog_for(rig, 4, 100, 1.0);
+  rig.run_to(rig.sim.time_s() + 0.5);
+  const double q4 = rig.sim.q()[3];
+  std::printf("J4 jogged up with its pot 10 deg low: state %s, faults %s, J4 at %.2f deg (switch at 160, hard stop 163)\n",
+              core::to_string(rig.state()), telemetry::fault_names(rig.last().faults).empty() ? "none" : telemetry::fault_names(rig.last().faults)[0].c_str(),
+              180 / arm::kPi * q4);
+  EXPECT_EQ(rig.state(), core::ArmState::fault);
+  EXPECT_TRUE(rig.last().faults & core::fault_mask(core::kFaultBitLimitUnexpected));
+  EXPECT_LT(q4, arm::deg_to_rad(162.0)) << "J4 ran on towards its hard stop";
 }
 
 }  // namespace
