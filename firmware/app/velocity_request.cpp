@@ -1,6 +1,7 @@
 #include "app/velocity_request.h"
 
 #include "config/motion_config.h"
+#include "core/joint_map.h"
 
 namespace wmra {
 namespace app {
@@ -12,7 +13,7 @@ fx::Real clamp_real(fx::Real r, int32_t limit) { return fx::Real{r.raw > limit ?
 }  // namespace
 
 kin::TwistWrist<kin::Fixed> velocity_twist(const Requests& rq, const kin::JacobianTrig<kin::Fixed>& trig) {
-  constexpr int32_t kRealPerMilli = 8389;  // Q23 per 1/1000 (m/s from mm/s, rad/s from mrad/s)
+  using core::kRealPerMilli;
   constexpr int32_t kHand = fx::real(config::kMaxHandSpeed_m_s).raw, kWrist = fx::real(config::kMaxWristSpeed_rad_s).raw;
   kin::Twist<kin::Fixed> t;
   t.v_m_s = {clamp_real(fx::Real{rq.v_mm_s[0] * kRealPerMilli}, kHand), clamp_real(fx::Real{rq.v_mm_s[1] * kRealPerMilli}, kHand),

@@ -10,12 +10,12 @@
 #include <stdint.h>
 
 #include "config/motion_config.h"
+#include "core/joint_map.h"
 #include "core/resolved_rate.h"
 
 namespace wmra {
 namespace core {
 
-constexpr int32_t kRealPerMrad = 8389;  // fx::Real (Q23 rad/s) per mrad/s, rounded
 
 constexpr int32_t kJogUnhomedTravel = fx::angle_deg(Ratio{config::kJogUnhomedTravel_deg, 1}).raw;
 
@@ -29,7 +29,7 @@ inline fx::Real jog_speed(uint8_t joint, int16_t requested_mrad_s, bool angle_kn
   // 10 and 11 are its zero switch's and none)
   const uint16_t towards = joint < 5 ? (uint16_t)(1u << (2 * joint + (mrad_s > 0 ? 1 : 0))) : 0;
   if (mrad_s == 0 || (closed_switches & towards)) return fx::Real{0};
-  const fx::Real speed{(int32_t)mrad_s * kRealPerMrad};
+  const fx::Real speed{(int32_t)mrad_s * kRealPerMilli};
   if (!angle_known) {
     const int32_t from_origin = q.q[joint].raw - origin.raw;
     const bool away = mrad_s > 0 ? from_origin >= kJogUnhomedTravel : from_origin <= -kJogUnhomedTravel;

@@ -112,6 +112,8 @@ inline int32_t apply(Scale s, int32_t x) {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kAngleCountsPerRad = fx::kAngleTurn / (2 * kPi);
 constexpr double kRealPerRad = 8388608.0;  // fx::Real is Q23
+// fx::Real per thousandth, rounded: m/s from mm/s, rad/s from mrad/s (the link's units)
+constexpr int32_t kRealPerMilli = 8389;
 constexpr double kLoopHz = 1000.0;
 
 // a step per control tick over the `ticks` that passed: one tick, or two after an overrun,
